@@ -1,0 +1,194 @@
+// The weight solver against forces known in advance: boundary values generated from chosen
+// forces must give those forces back, whatever the form, rank or duplicate rows.
+#include "sculpt/deform/weight_solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace sculpt::deform {
+namespace {
+
+const Kernel kKelvin{KernelKind::kKelvin, {3e7, 0.45}, 0.0};
+
+Vec3 field(const Kernel& k, const std::vector<SourceSetup>& sources, const std::vector<Vec3>& f,
+           const Vec3& q) {
+  Vec3 u;
+  for (std::size_t s = 0; s < sources.size(); ++s) u += displacement(k, sources[s].source, f[s], q);
+  return u;
+}
+
+std::vector<Vec3> points_on_sphere(unsigned seed, int count) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  std::vector<Vec3> pts;
+  for (int i = 0; i < count; ++i) pts.push_back(normalized(Vec3{g(rng), g(rng), g(rng)}));
+  return pts;
+}
+
+TEST(WeightSolver, RecoversKnownForcesInTheForceForm) {
+  const std::vector<SourceSetup> sources = {{{0, 0, 1.3}, {}}, {{1.4, 0, 0}, {}}};
+  const std::vector<Vec3> truth = {{1e5, -2e5, 3e5}, {-4e5, 1e5, 2e5}};
+  std::vector<DisplacementCondition> bcs;
+  for (const Vec3& q : points_on_sphere(3, 12)) bcs.push_back({q, field(kKelvin, sources, truth, q)});
+  WeightSolver solver({WeightForm::kForce});
+  std::vector<Vec3> weights(2), effective(2);
+  const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.rank, 6u);
+  EXPECT_EQ(r.rows, 36u);
+  EXPECT_LT(r.relative_residual, 1e-10);
+  for (int s = 0; s < 2; ++s) EXPECT_LT(norm(effective[s] - truth[s]), 1e-8 * norm(truth[s]));
+  EXPECT_EQ(weights[0], effective[0]);
+}
+
+// Chapter 4 form with a zero force component: that column is zero, the rank drops by one and
+// the effective force keeps that component at exactly zero.
+TEST(WeightSolver, SurvivesZeroForceComponentsInTheScaleForm) {
+  const std::vector<SourceSetup> sources = {{{0, 0, 1.3}, {0.0, 0.1, -0.2}}};
+  const std::vector<Vec3> truth = {{0.0, 2e5, -1e5}};
+  std::vector<DisplacementCondition> bcs;
+  for (const Vec3& q : points_on_sphere(5, 8)) bcs.push_back({q, field(kKelvin, sources, truth, q)});
+  WeightSolver solver({WeightForm::kScale});
+  std::vector<Vec3> weights(1), effective(1);
+  const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.rank, 2u);
+  EXPECT_TRUE(std::isinf(r.condition));
+  EXPECT_EQ(effective[0].x, 0.0);
+  EXPECT_NEAR(effective[0].y, 2e5, 1e-3);
+  EXPECT_NEAR(effective[0].z, -1e5, 1e-3);
+  EXPECT_NEAR(weights[0].y, 2e6, 1e-2);  // alpha_k = f_k / F_k
+}
+
+TEST(WeightSolver, DuplicateBoundaryPointsAndASinglePointAreFine) {
+  const std::vector<SourceSetup> sources = {{{0.2, 0.1, 1.5}, {}}};
+  const std::vector<Vec3> truth = {{3e5, 1e5, -2e5}};
+  const Vec3 q{0, 0, 1};
+  const DisplacementCondition bc{q, field(kKelvin, sources, truth, q)};
+  WeightSolver solver({WeightForm::kForce});
+  std::vector<Vec3> weights(1), effective(1);
+  for (const std::vector<DisplacementCondition>& bcs :
+       {std::vector<DisplacementCondition>{bc}, std::vector<DisplacementCondition>{bc, bc, bc, bc}}) {
+    const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+    ASSERT_TRUE(r.ok);
+    EXPECT_EQ(r.rank, 3u);
+    EXPECT_LT(norm(effective[0] - truth[0]), 1e-8 * norm(truth[0]));
+  }
+}
+
+// Two sources at the same place cannot be told apart: rank 3 of 6, and the minimum-norm
+// answer splits the force evenly while still meeting every condition.
+TEST(WeightSolver, CoincidentSourcesGiveTheMinimumNormSplit) {
+  const std::vector<SourceSetup> sources = {{{0, 0, 1.5}, {}}, {{0, 0, 1.5}, {}}};
+  const std::vector<Vec3> truth = {{2e5, 0, -4e5}, {0, 0, 0}};
+  std::vector<DisplacementCondition> bcs;
+  for (const Vec3& q : points_on_sphere(9, 10)) bcs.push_back({q, field(kKelvin, sources, truth, q)});
+  WeightSolver solver({WeightForm::kForce});
+  std::vector<Vec3> weights(2), effective(2);
+  const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.rank, 3u);
+  EXPECT_LT(r.relative_residual, 1e-9);
+  EXPECT_LT(norm(effective[0] - truth[0] * 0.5), 1e-6 * norm(truth[0]));
+  EXPECT_LT(norm(effective[1] - truth[0] * 0.5), 1e-6 * norm(truth[0]));
+}
+
+TEST(WeightSolver, TractionRowsAloneDetermineTheForce) {
+  const std::vector<SourceSetup> sources = {{{0, 0, 1.4}, {}}};
+  const std::vector<Vec3> truth = {{1e5, 2e5, -3e5}};
+  std::vector<TractionCondition> tcs;
+  for (const Vec3& q : points_on_sphere(21, 6)) {
+    tcs.push_back({q, q, kelvin_traction(0.45, sources[0].source, truth[0], q, q)});
+  }
+  WeightSolver solver({WeightForm::kForce, /*traction_eps=*/1e-2});
+  std::vector<Vec3> weights(1), effective(1);
+  const SolveReport r = solver.solve(kKelvin, sources, {}, tcs, weights, effective);
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.rank, 3u);
+  EXPECT_LT(norm(effective[0] - truth[0]), 1e-8 * norm(truth[0]));
+}
+
+// The reported condition number equals the one of an independent SVD of the equilibrated
+// stacked matrix, computed here without the solver's QR.
+TEST(WeightSolver, ConditionEstimateMatchesAnIndependentSvdOfTheStackedRows) {
+  const std::vector<SourceSetup> sources = {{{0, 0, 1.2}, {}}, {{0.3, 0, 1.2}, {}}};
+  std::vector<DisplacementCondition> bcs;
+  for (const Vec3& q : points_on_sphere(31, 7)) bcs.push_back({q, {0.01, 0, 0}});
+  const std::size_t rows = 3 * bcs.size(), cols = 6;
+  std::vector<double> a(rows * cols);
+  for (std::size_t i = 0; i < bcs.size(); ++i)
+    for (std::size_t s = 0; s < 2; ++s) {
+      const Mat3 m = displacement_matrix(kKelvin, sources[s].source, bcs[i].point);
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) a[(3 * i + c) * cols + 3 * s + k] = m(c, k);
+    }
+  for (std::size_t j = 0; j < cols; ++j) {
+    double n = 0;
+    for (std::size_t i = 0; i < rows; ++i) n += a[i * cols + j] * a[i * cols + j];
+    for (std::size_t i = 0; i < rows; ++i) a[i * cols + j] /= std::sqrt(n);
+  }
+  // Eigenvalues of A^T A by Jacobi rotations (a tiny independent implementation).
+  std::vector<double> ata(cols * cols, 0.0);
+  for (std::size_t i = 0; i < cols; ++i)
+    for (std::size_t j = 0; j < cols; ++j)
+      for (std::size_t k = 0; k < rows; ++k) ata[i * cols + j] += a[k * cols + i] * a[k * cols + j];
+  for (int sweep = 0; sweep < 50; ++sweep)
+    for (std::size_t p = 0; p < cols; ++p)
+      for (std::size_t q = p + 1; q < cols; ++q) {
+        const double apq = ata[p * cols + q];
+        if (std::abs(apq) < 1e-300) continue;
+        const double theta = (ata[q * cols + q] - ata[p * cols + p]) / (2 * apq);
+        const double t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+        const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+        for (std::size_t k = 0; k < cols; ++k) {
+          const double akp = ata[k * cols + p], akq = ata[k * cols + q];
+          ata[k * cols + p] = c * akp - s * akq;
+          ata[k * cols + q] = s * akp + c * akq;
+        }
+        for (std::size_t k = 0; k < cols; ++k) {
+          const double apk = ata[p * cols + k], aqk = ata[q * cols + k];
+          ata[p * cols + k] = c * apk - s * aqk;
+          ata[q * cols + k] = s * apk + c * aqk;
+        }
+      }
+  double lo = INFINITY, hi = 0;
+  for (std::size_t i = 0; i < cols; ++i) {
+    lo = std::min(lo, ata[i * cols + i]);
+    hi = std::max(hi, ata[i * cols + i]);
+  }
+  const double expected = std::sqrt(hi / lo);
+  WeightSolver solver({WeightForm::kForce});
+  std::vector<Vec3> weights(2), effective(2);
+  const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+  ASSERT_TRUE(r.ok);
+  EXPECT_NEAR(r.condition, expected, 1e-4 * expected);
+  EXPECT_GT(r.condition, 10.0);  // two close sources: genuinely ill-conditioned
+}
+
+TEST(WeightSolver, InconsistentConditionsReportTheirResidual) {
+  const std::vector<SourceSetup> sources = {{{0, 0, 2}, {}}};
+  // One point asked to move two different ways: the best fit is the mean, residual |d|/sqrt(2)*...
+  const Vec3 q{0, 0, 1};
+  const std::vector<DisplacementCondition> bcs = {{q, {0, 0, 0.1}}, {q, {0, 0, -0.1}}};
+  WeightSolver solver({WeightForm::kForce});
+  std::vector<Vec3> weights(1), effective(1);
+  const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+  ASSERT_TRUE(r.ok);
+  EXPECT_NEAR(norm(effective[0]), 0.0, 1e-6);
+  EXPECT_NEAR(r.residual, std::sqrt(0.02), 1e-12);
+  EXPECT_NEAR(r.relative_residual, 1.0, 1e-12);
+}
+
+TEST(WeightSolver, NothingToSolveIsNotOk) {
+  WeightSolver solver;
+  std::vector<Vec3> weights(1), effective(1);
+  const std::vector<SourceSetup> sources = {{{0, 0, 2}, {0, 0, -1}}};
+  EXPECT_FALSE(solver.solve(kKelvin, sources, {}, {}, weights, effective).ok);
+  EXPECT_FALSE(solver.solve(kKelvin, {}, {}, {}, weights, effective).ok);
+}
+
+}  // namespace
+}  // namespace sculpt::deform
