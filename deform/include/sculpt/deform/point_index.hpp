@@ -1,0 +1,84 @@
+#pragma once
+// A k-d tree over a snapshot of a point model's positions, answering exact queries against the
+// model's current positions while the model deforms.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "sculpt/deform/point_model.hpp"
+#include "sculpt/deform/vec3.hpp"
+
+namespace sculpt::deform {
+
+/// Spatial index over a snapshot of a PointModel's positions.
+///
+/// Building copies x, y, z into the index's own storage, so the model may be deformed freely
+/// afterwards: the real-time loop moves points every tick and a fresh index is built off the
+/// loop and moved into place. Between rebuilds, nearest() and within_radius() stay exact with
+/// respect to the model's *current* positions as long as the caller passes a `drift` no smaller
+/// than the largest distance any point has moved since the snapshot: the stale tree is searched
+/// with the bounds widened by `drift`, and every candidate is then tested at its current
+/// position. A too-small `drift` may miss points (within_radius) or return a point that is not
+/// the nearest (nearest); reported points and distances are always true at current positions.
+///
+/// Thread safety: all const members (the queries) may run concurrently from any number of
+/// threads on one index; they share no mutable state. rebuild() and assignment must not overlap
+/// any query on the same object — build a new index elsewhere and move it in instead.
+class PointIndex {
+ public:
+  /// Index value of Nearest when there is no point at all (empty index).
+  static constexpr std::uint32_t kNoPoint = 0xFFFFFFFFu;
+
+  /// An empty index (size() == 0).
+  PointIndex();
+  /// Builds the index over the model's current positions.
+  explicit PointIndex(const PointModel& model);
+  ~PointIndex();
+  PointIndex(PointIndex&&) noexcept;
+  PointIndex& operator=(PointIndex&&) noexcept;
+  PointIndex(const PointIndex&) = delete;
+  PointIndex& operator=(const PointIndex&) = delete;
+
+  /// Re-snapshots the model's positions and rebuilds the tree. Set-up time: allocates.
+  /// Throws std::invalid_argument if the model has more than kNoPoint - 1 points.
+  void rebuild(const PointModel& model);
+
+  /// Number of points in the snapshot.
+  std::size_t size() const;
+
+  /// Result of nearest(): the point's index and its current distance to the query.
+  struct Nearest {
+    std::uint32_t index;
+    double distance;
+  };
+
+  /// Exact nearest point of `model` (current positions) to q, assuming no point moved more than
+  /// `drift` since the snapshot. Ties in distance go to the smallest index. Returns
+  /// {kNoPoint, +infinity} for an empty index. Does not allocate. Thread-safe (const).
+  /// Throws std::invalid_argument if model.size() != size().
+  Nearest nearest(const PointModel& model, const Vec3& q, double drift = 0.0) const;
+
+  /// Indices of all points whose current position is within `radius` of q (inclusive:
+  /// squared distance <= radius * radius), written into `out` (cleared first, ascending index
+  /// order), assuming no point moved more than `drift` since the snapshot.
+  /// Does not allocate while out.capacity() holds every match; if it does not, `out` grows
+  /// through push_back (allocating) and the result is still complete. Reserve for the largest
+  /// expected neighbourhood to keep the call allocation-free. Thread-safe (const).
+  /// Throws std::invalid_argument if model.size() != size().
+  void within_radius(const PointModel& model, const Vec3& q, double radius,
+                     std::vector<std::uint32_t>& out, double drift = 0.0) const;
+
+  /// The min(k, size()) nearest snapshot points to q, closest first, with their squared
+  /// distances (snapshot positions; a point at q itself is included). For set-up work such as
+  /// normal estimation; resizes both vectors. Thread-safe (const).
+  void k_nearest(const Vec3& q, std::size_t k, std::vector<std::uint32_t>& indices,
+                 std::vector<double>& squared_distances) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sculpt::deform

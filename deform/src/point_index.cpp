@@ -1,0 +1,224 @@
+#include "sculpt/deform/point_index.hpp"
+
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace sculpt::deform {
+namespace {
+
+// Leaf size: measured flat between 8 and 16 for nearest and small-radius queries; 12 keeps the
+// tree shallow without scanning long leaves.
+constexpr std::size_t kLeafSize = 12;
+
+// The tree searches in double (ElementType double over float storage) so that pruning
+// decisions carry only double rounding error. Each search bound is still widened by this
+// relative amount, plus the smallest normal double so a zero radius admits exact hits (nanoflann
+// admits a leaf point only when its distance is strictly below the bound). Every candidate is
+// re-tested exactly afterwards, so the widening costs a few extra tests at most.
+constexpr double kRelativeSlack = 1e-9;
+constexpr double kAbsoluteSlack = std::numeric_limits<double>::min();
+
+double widened(double squared_bound) {
+  return squared_bound * (1.0 + kRelativeSlack) + kAbsoluteSlack;
+}
+
+// Squared snapshot-distance bound for candidates that can be within `radius` now, given that no
+// point moved more than `drift`: |q - current| <= r implies |q - snapshot| <= r + drift.
+double search_bound(double radius, double drift) {
+  const double r = radius + drift;
+  return widened(r * r);
+}
+
+// Squared distance from q to point i of the model at its current position. One function so
+// every exact test in this file uses the same arithmetic.
+inline double current_squared_distance(const PointModel& model, std::uint32_t i,
+                                       const double* q) {
+  const double dx = static_cast<double>(model.x[i]) - q[0];
+  const double dy = static_cast<double>(model.y[i]) - q[1];
+  const double dz = static_cast<double>(model.z[i]) - q[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// The snapshot, interleaved xyz so a leaf scan touches one cache line per few points.
+struct Snapshot {
+  std::vector<float> xyz;
+  std::array<double, 3> low{}, high{};
+
+  std::size_t kdtree_get_point_count() const { return xyz.size() / 3; }
+  double kdtree_get_pt(std::uint32_t i, std::size_t dim) const {
+    return static_cast<double>(xyz[3 * static_cast<std::size_t>(i) + dim]);
+  }
+  // The bounding box is gathered while copying, which saves nanoflann a pass.
+  template <class Box>
+  bool kdtree_get_bbox(Box& box) const {
+    for (std::size_t d = 0; d < 3; ++d) {
+      box[d].low = low[d];
+      box[d].high = high[d];
+    }
+    return true;
+  }
+};
+
+using Metric = nanoflann::L2_Simple_Adaptor<double, Snapshot, double, std::uint32_t>;
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, Snapshot, 3, std::uint32_t>;
+
+// nanoflann result set for nearest(): tests each candidate at its current position and
+// shrinks the snapshot bound to (best current distance + drift) as better points turn up.
+class NearestCollector {
+ public:
+  NearestCollector(const PointModel& model, const double* q, double drift)
+      : model_(model), q_(q), drift_(drift) {}
+
+  std::size_t size() const { return best_index_ == PointIndex::kNoPoint ? 0 : 1; }
+  bool full() const { return true; }
+  double worstDist() const { return bound_; }
+  bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {
+    const double d2 = current_squared_distance(model_, i, q_);
+    if (d2 < best_squared_ || (d2 == best_squared_ && i < best_index_)) {
+      best_squared_ = d2;
+      best_index_ = i;
+      bound_ = drift_ > 0.0 ? search_bound(std::sqrt(d2), drift_) : widened(d2);
+    }
+    return true;
+  }
+
+  std::uint32_t best_index() const { return best_index_; }
+  double best_squared() const { return best_squared_; }
+
+ private:
+  const PointModel& model_;
+  const double* q_;
+  double drift_;
+  double best_squared_ = std::numeric_limits<double>::infinity();
+  std::uint32_t best_index_ = PointIndex::kNoPoint;
+  double bound_ = std::numeric_limits<double>::infinity();
+};
+
+// nanoflann result set for within_radius(): keeps candidates whose current position passes the
+// exact test, appending to the caller's vector (no allocation within its capacity).
+class RadiusCollector {
+ public:
+  RadiusCollector(const PointModel& model, const double* q, double radius, double drift,
+                  std::vector<std::uint32_t>& out)
+      : model_(model),
+        q_(q),
+        radius_squared_(radius * radius),
+        bound_(search_bound(radius, drift)),
+        out_(out) {}
+
+  std::size_t size() const { return out_.size(); }
+  bool full() const { return true; }
+  double worstDist() const { return bound_; }
+  bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {
+    if (current_squared_distance(model_, i, q_) <= radius_squared_) out_.push_back(i);
+    return true;
+  }
+
+ private:
+  const PointModel& model_;
+  const double* q_;
+  double radius_squared_;
+  double bound_;
+  std::vector<std::uint32_t>& out_;
+};
+
+void check_model_size(const PointModel& model, std::size_t indexed) {
+  if (model.size() != indexed) {
+    throw std::invalid_argument("point index: query model has " + std::to_string(model.size()) +
+                                " points, the index was built over " + std::to_string(indexed));
+  }
+}
+
+}  // namespace
+
+struct PointIndex::Impl {
+  Snapshot points;
+  // Built lazily by buildIndex(); holds a reference to `points`, so Impl never moves (it lives
+  // behind a unique_ptr).
+  Tree tree{3, points,
+            nanoflann::KDTreeSingleIndexAdaptorParams(
+                kLeafSize, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex)};
+};
+
+PointIndex::PointIndex() = default;
+PointIndex::PointIndex(const PointModel& model) { rebuild(model); }
+PointIndex::~PointIndex() = default;
+PointIndex::PointIndex(PointIndex&&) noexcept = default;
+PointIndex& PointIndex::operator=(PointIndex&&) noexcept = default;
+
+void PointIndex::rebuild(const PointModel& model) {
+  const std::size_t n = model.size();
+  if (n >= kNoPoint) {
+    throw std::invalid_argument("point index: " + std::to_string(n) +
+                                " points exceed the 32-bit index range");
+  }
+  if (model.y.size() != n || model.z.size() != n) {
+    throw std::invalid_argument("point index: coordinate arrays differ in length");
+  }
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  Snapshot& s = impl_->points;
+  s.xyz.resize(3 * n);
+  s.low.fill(std::numeric_limits<double>::infinity());
+  s.high.fill(-std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < n; ++i) {
+    const float p[3] = {model.x[i], model.y[i], model.z[i]};
+    for (std::size_t d = 0; d < 3; ++d) {
+      s.xyz[3 * i + d] = p[d];
+      s.low[d] = std::min(s.low[d], static_cast<double>(p[d]));
+      s.high[d] = std::max(s.high[d], static_cast<double>(p[d]));
+    }
+  }
+  impl_->tree.buildIndex();
+}
+
+std::size_t PointIndex::size() const { return impl_ ? impl_->points.kdtree_get_point_count() : 0; }
+
+PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q,
+                                        double drift) const {
+  check_model_size(model, size());
+  if (size() == 0) return {kNoPoint, std::numeric_limits<double>::infinity()};
+  const double query[3] = {q.x, q.y, q.z};
+  NearestCollector collector(model, query, std::max(drift, 0.0));
+  impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
+  if (collector.best_index() == kNoPoint) {
+    // Only reachable with a non-finite query: every comparison failed.
+    return {kNoPoint, std::numeric_limits<double>::infinity()};
+  }
+  return {collector.best_index(), std::sqrt(collector.best_squared())};
+}
+
+void PointIndex::within_radius(const PointModel& model, const Vec3& q, double radius,
+                               std::vector<std::uint32_t>& out, double drift) const {
+  out.clear();
+  check_model_size(model, size());
+  if (size() == 0 || !(radius >= 0.0)) return;
+  const double query[3] = {q.x, q.y, q.z};
+  RadiusCollector collector(model, query, radius, std::max(drift, 0.0), out);
+  impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
+  // Tree order is spatial; callers want index order (stable, cache-friendly writes). std::sort
+  // works in place, so this stays allocation-free.
+  std::sort(out.begin(), out.end());
+}
+
+void PointIndex::k_nearest(const Vec3& q, std::size_t k, std::vector<std::uint32_t>& indices,
+                           std::vector<double>& squared_distances) const {
+  const std::size_t count = std::min(k, size());
+  indices.resize(count);
+  squared_distances.resize(count);
+  // KNNResultSet reads its last slot as the running bound, so it needs capacity >= 1.
+  if (count == 0) return;
+  const double query[3] = {q.x, q.y, q.z};
+  nanoflann::KNNResultSet<double, std::uint32_t, std::size_t> result(count);
+  result.init(indices.data(), squared_distances.data());
+  impl_->tree.findNeighbors(result, query, nanoflann::SearchParams());
+  indices.resize(result.size());
+  squared_distances.resize(result.size());
+}
+
+}  // namespace sculpt::deform

@@ -1,0 +1,374 @@
+#include "sculpt/deform/point_index.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace sculpt::deform {
+namespace {
+
+// --- brute-force oracle: the definition of the answer, on the model's current positions ---
+
+double squared_distance(const PointModel& m, std::size_t i, const Vec3& q) {
+  const double dx = static_cast<double>(m.x[i]) - q.x;
+  const double dy = static_cast<double>(m.y[i]) - q.y;
+  const double dz = static_cast<double>(m.z[i]) - q.z;
+  return dx * dx + dy * dy + dz * dz;
+}
+
+double oracle_nearest_distance(const PointModel& m, const Vec3& q) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < m.size(); ++i) best = std::min(best, squared_distance(m, i, q));
+  return std::sqrt(best);
+}
+
+std::vector<std::uint32_t> oracle_within(const PointModel& m, const Vec3& q, double radius) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    if (squared_distance(m, i, q) <= radius * radius) out.push_back(static_cast<std::uint32_t>(i));
+  }
+  return out;
+}
+
+PointModel random_cloud(std::size_t n, std::uint32_t seed, double half_extent = 1.0) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-half_extent, half_extent);
+  PointModel m;
+  for (std::size_t i = 0; i < n; ++i) m.push_back({u(rng), u(rng), u(rng)});
+  return m;
+}
+
+std::vector<Vec3> random_queries(std::size_t n, std::uint32_t seed, double half_extent) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-half_extent, half_extent);
+  std::vector<Vec3> qs(n);
+  for (Vec3& q : qs) q = {u(rng), u(rng), u(rng)};
+  return qs;
+}
+
+// Moves every point by a random displacement of length at most `drift` (a fifth of them by
+// exactly `drift`), and returns the largest displacement actually stored (float rounding may
+// add an ulp), which is the honest bound to pass to the queries.
+double displace(PointModel& m, double drift, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double moved = 0.0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const Vec3 before = m.position(i);
+    const Vec3 direction = normalized(Vec3{gauss(rng), gauss(rng), gauss(rng)});
+    const double length = u(rng) < 0.2 ? drift : drift * u(rng);
+    m.set_position(i, before + length * direction);
+    moved = std::max(moved, norm(m.position(i) - before));
+  }
+  return moved;
+}
+
+void expect_nearest_matches_oracle(const PointIndex& index, const PointModel& m, const Vec3& q,
+                                   double drift) {
+  const PointIndex::Nearest got = index.nearest(m, q, drift);
+  const double want = oracle_nearest_distance(m, q);
+  ASSERT_LT(got.index, m.size());
+  // The point reported must really be at the reported distance, and that distance must be the
+  // minimum (up to the last bits, in case the compiler fused the oracle's arithmetic).
+  EXPECT_NEAR(got.distance, std::sqrt(squared_distance(m, got.index, q)), 1e-12);
+  EXPECT_NEAR(got.distance, want, 1e-12 * (1.0 + want));
+}
+
+TEST(PointIndex, EmptyModelAnswersNothing) {
+  const PointModel empty;
+  for (const PointIndex& index : {PointIndex(), PointIndex(empty)}) {
+    EXPECT_EQ(index.size(), 0u);
+    const PointIndex::Nearest n = index.nearest(empty, {1, 2, 3});
+    EXPECT_EQ(n.index, PointIndex::kNoPoint);
+    EXPECT_TRUE(std::isinf(n.distance));
+    std::vector<std::uint32_t> out{7, 8};
+    index.within_radius(empty, {0, 0, 0}, 10.0, out);
+    EXPECT_TRUE(out.empty());
+    std::vector<std::uint32_t> ids{1};
+    std::vector<double> d2{1.0};
+    index.k_nearest({0, 0, 0}, 5, ids, d2);
+    EXPECT_TRUE(ids.empty());
+    EXPECT_TRUE(d2.empty());
+  }
+}
+
+TEST(PointIndex, SinglePoint) {
+  PointModel m;
+  m.push_back({1, 2, 3});
+  const PointIndex index(m);
+  EXPECT_EQ(index.size(), 1u);
+  const PointIndex::Nearest n = index.nearest(m, {1, 2, 5});
+  EXPECT_EQ(n.index, 0u);
+  EXPECT_DOUBLE_EQ(n.distance, 2.0);
+}
+
+TEST(PointIndex, NearestMatchesBruteForce) {
+  const PointModel m = random_cloud(5000, 1234);
+  const PointIndex index(m);
+  ASSERT_EQ(index.size(), m.size());
+  // Queries inside and well outside the cloud.
+  for (const Vec3& q : random_queries(400, 99, 2.0)) expect_nearest_matches_oracle(index, m, q, 0.0);
+  // Queries exactly at points find that point at distance zero.
+  for (std::uint32_t i = 0; i < 5000; i += 97) {
+    const PointIndex::Nearest n = index.nearest(m, m.position(i));
+    EXPECT_EQ(n.index, i);
+    EXPECT_EQ(n.distance, 0.0);
+  }
+}
+
+TEST(PointIndex, WithinRadiusMatchesBruteForce) {
+  const PointModel m = random_cloud(4000, 42);
+  const PointIndex index(m);
+  std::vector<std::uint32_t> out;
+  for (const double radius : {0.0, 0.01, 0.07, 0.25, 1.0, 5.0}) {
+    for (const Vec3& q : random_queries(100, 7, 1.5)) {
+      index.within_radius(m, q, radius, out);
+      EXPECT_EQ(out, oracle_within(m, q, radius)) << "radius " << radius;
+    }
+  }
+  index.within_radius(m, {0, 0, 0}, 5.0, out);
+  EXPECT_EQ(out.size(), m.size());  // the whole cloud, in index order
+  EXPECT_TRUE(std::is_sorted(out.begin(), out.end()));
+}
+
+TEST(PointIndex, RadiusIsInclusive) {
+  // Integer grid: every distance below is exact, so "within 1" must include the 6 axis
+  // neighbours at exactly 1 and exclude the diagonal ones.
+  PointModel m;
+  for (int k = -2; k <= 2; ++k) {
+    for (int j = -2; j <= 2; ++j) {
+      for (int i = -2; i <= 2; ++i) m.push_back({double(i), double(j), double(k)});
+    }
+  }
+  const PointIndex index(m);
+  std::vector<std::uint32_t> out;
+  index.within_radius(m, {0, 0, 0}, 1.0, out);
+  EXPECT_EQ(out.size(), 7u);
+  EXPECT_EQ(out, oracle_within(m, {0, 0, 0}, 1.0));
+  index.within_radius(m, {2, 2, 2}, 0.0, out);  // radius 0 at a point: just that point
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(m.position(out[0]), (Vec3{2, 2, 2}));
+  index.within_radius(m, {0.5, 0, 0}, 0.0, out);  // radius 0 between points: nothing
+  EXPECT_TRUE(out.empty());
+  index.within_radius(m, {0, 0, 0}, -1.0, out);  // negative radius: nothing
+  EXPECT_TRUE(out.empty());
+}
+
+TEST(PointIndex, DuplicatePoints) {
+  PointModel m = random_cloud(300, 5);
+  // A heavy duplicate (more copies than a leaf holds) and scattered pairs.
+  const Vec3 heavy{0.25, -0.5, 0.125};
+  std::vector<std::uint32_t> heavy_ids;
+  for (int c = 0; c < 40; ++c) {
+    heavy_ids.push_back(static_cast<std::uint32_t>(m.size()));
+    m.push_back(heavy);
+  }
+  for (std::uint32_t i = 0; i < 300; i += 10) m.push_back(m.position(i));
+  const PointIndex index(m);
+
+  const PointIndex::Nearest n = index.nearest(m, heavy);
+  EXPECT_EQ(n.index, heavy_ids.front());  // ties go to the smallest index
+  EXPECT_EQ(n.distance, 0.0);
+  std::vector<std::uint32_t> out;
+  index.within_radius(m, heavy, 0.0, out);
+  EXPECT_EQ(out, heavy_ids);
+  for (std::uint32_t i = 0; i < 300; i += 10) {
+    EXPECT_EQ(index.nearest(m, m.position(i)).index, i);
+    index.within_radius(m, m.position(i), 0.0, out);
+    EXPECT_EQ(out, oracle_within(m, m.position(i), 0.0));
+    EXPECT_GE(out.size(), 2u);
+  }
+  for (const Vec3& q : random_queries(100, 8, 1.2)) {
+    expect_nearest_matches_oracle(index, m, q, 0.0);
+    index.within_radius(m, q, 0.2, out);
+    EXPECT_EQ(out, oracle_within(m, q, 0.2));
+  }
+}
+
+TEST(PointIndex, AllPointsIdentical) {
+  PointModel m;
+  for (int i = 0; i < 100; ++i) m.push_back({1, 1, 1});
+  const PointIndex index(m);
+  EXPECT_EQ(index.nearest(m, {0, 0, 0}).index, 0u);
+  std::vector<std::uint32_t> out;
+  index.within_radius(m, {1, 1, 1}, 0.0, out);
+  EXPECT_EQ(out.size(), 100u);
+}
+
+TEST(PointIndex, ExactAfterBoundedDrift) {
+  // Drift comparable to the point spacing (~0.06), so the current nearest point and the
+  // current neighbourhoods really differ from the snapshot's.
+  PointModel m = random_cloud(5000, 2024);
+  const PointIndex index(m);
+  const PointModel snapshot = m;
+  std::size_t nearest_changed = 0;
+  std::size_t neighbourhood_changed = 0;
+  std::vector<std::uint32_t> out;
+  for (const double drift : {0.001, 0.03, 0.1, 0.5}) {
+    m = snapshot;
+    const double moved = displace(m, drift, static_cast<std::uint32_t>(drift * 1e4));
+    ASSERT_LE(moved, drift + 1e-6);  // float storage adds at most an ulp or so
+    for (const Vec3& q : random_queries(300, 11, 1.3)) {
+      expect_nearest_matches_oracle(index, m, q, moved);
+      if (index.nearest(m, q, moved).index != index.nearest(snapshot, q).index) ++nearest_changed;
+      for (const double radius : {0.0, 0.05, 0.2}) {
+        index.within_radius(m, q, radius, out, moved);
+        const std::vector<std::uint32_t> want = oracle_within(m, q, radius);
+        EXPECT_EQ(out, want) << "drift " << drift << " radius " << radius;
+        if (want != oracle_within(snapshot, q, radius)) ++neighbourhood_changed;
+      }
+    }
+  }
+  EXPECT_GT(nearest_changed, 200u);  // the test would catch a search that ignored drift
+  EXPECT_GT(neighbourhood_changed, 200u);
+}
+
+TEST(PointIndex, DriftMovesTheNearestPointAway) {
+  // Snapshot: a is nearest to the origin. After moving a away and b closer (each by exactly
+  // `drift`), b is. A search ignoring drift would stop after a.
+  PointModel m = random_cloud(2000, 3, 10.0);
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    if (norm(m.position(i)) < 3.0) m.set_position(i, m.position(i) * (3.0 / norm(m.position(i))));
+  }
+  const std::uint32_t a = static_cast<std::uint32_t>(m.size());
+  m.push_back({1.0, 0.0, 0.0});
+  const std::uint32_t b = a + 1;
+  m.push_back({0.0, 0.0, -1.5});
+  const PointIndex index(m);
+  EXPECT_EQ(index.nearest(m, {0, 0, 0}).index, a);
+  m.set_position(a, {2.0, 0.0, 0.0});
+  m.set_position(b, {0.0, 0.0, -0.5});
+  const PointIndex::Nearest n = index.nearest(m, {0, 0, 0}, 1.0);
+  EXPECT_EQ(n.index, b);
+  EXPECT_DOUBLE_EQ(n.distance, 0.5);
+  std::vector<std::uint32_t> out;
+  index.within_radius(m, {0, 0, 0}, 0.75, out, 1.0);
+  EXPECT_EQ(out, std::vector<std::uint32_t>{b});
+}
+
+TEST(PointIndex, RebuildTracksTheModel) {
+  PointModel m = random_cloud(3000, 77);
+  PointIndex index(m);
+  displace(m, 0.2, 78);
+  index.rebuild(m);
+  for (const Vec3& q : random_queries(200, 79, 1.2)) expect_nearest_matches_oracle(index, m, q, 0.0);
+  m = random_cloud(100, 80);  // a different size entirely
+  index.rebuild(m);
+  EXPECT_EQ(index.size(), 100u);
+  for (const Vec3& q : random_queries(50, 81, 1.2)) expect_nearest_matches_oracle(index, m, q, 0.0);
+}
+
+TEST(PointIndex, MovedIndexKeepsWorking) {
+  const PointModel m = random_cloud(1000, 90);
+  PointIndex source(m);
+  PointIndex moved(std::move(source));
+  PointIndex assigned;
+  assigned = std::move(moved);
+  EXPECT_EQ(assigned.size(), 1000u);
+  for (const Vec3& q : random_queries(50, 91, 1.2)) expect_nearest_matches_oracle(assigned, m, q, 0.0);
+}
+
+TEST(PointIndex, WithinRadiusDoesNotReallocateWithinCapacity) {
+  const PointModel m = random_cloud(3000, 55);
+  const PointIndex index(m);
+  std::vector<std::uint32_t> out;
+  out.reserve(m.size());
+  const std::uint32_t* data = out.data();
+  for (const Vec3& q : random_queries(50, 56, 1.0)) {
+    index.within_radius(m, q, 0.5, out, 0.05);
+    EXPECT_EQ(out.data(), data);
+    EXPECT_EQ(out.capacity(), m.size());
+  }
+  // Too little capacity: the result grows and is still complete.
+  std::vector<std::uint32_t> small;
+  small.reserve(2);
+  index.within_radius(m, {0, 0, 0}, 0.5, small);
+  EXPECT_EQ(small, oracle_within(m, {0, 0, 0}, 0.5));
+}
+
+TEST(PointIndex, KNearestMatchesBruteForce) {
+  const PointModel m = random_cloud(2000, 66);
+  const PointIndex index(m);
+  std::vector<std::uint32_t> ids;
+  std::vector<double> d2;
+  for (const Vec3& q : random_queries(100, 67, 1.2)) {
+    std::vector<double> all(m.size());
+    for (std::size_t i = 0; i < m.size(); ++i) all[i] = squared_distance(m, i, q);
+    std::sort(all.begin(), all.end());
+    index.k_nearest(q, 12, ids, d2);
+    ASSERT_EQ(ids.size(), 12u);
+    ASSERT_EQ(d2.size(), 12u);
+    EXPECT_TRUE(std::is_sorted(d2.begin(), d2.end()));
+    for (std::size_t j = 0; j < 12; ++j) {
+      EXPECT_NEAR(d2[j], all[j], 1e-12);
+      EXPECT_NEAR(d2[j], squared_distance(m, ids[j], q), 1e-12);
+    }
+  }
+  index.k_nearest({0, 0, 0}, 0, ids, d2);
+  EXPECT_TRUE(ids.empty());
+  index.k_nearest({0, 0, 0}, 5000, ids, d2);  // more than there are
+  EXPECT_EQ(ids.size(), m.size());
+}
+
+TEST(PointIndex, KNearestUsesTheSnapshot) {
+  PointModel m = random_cloud(500, 12);
+  const PointIndex index(m);
+  std::vector<std::uint32_t> ids;
+  std::vector<double> d2;
+  const Vec3 p = m.position(17);
+  m.set_position(17, {50, 50, 50});  // moving the model does not move the snapshot
+  index.k_nearest(p, 1, ids, d2);
+  ASSERT_EQ(ids.size(), 1u);
+  EXPECT_EQ(ids[0], 17u);
+  EXPECT_EQ(d2[0], 0.0);
+}
+
+TEST(PointIndex, RejectsAModelOfAnotherSize) {
+  const PointModel m = random_cloud(100, 1);
+  const PointIndex index(m);
+  const PointModel other = random_cloud(99, 1);
+  std::vector<std::uint32_t> out;
+  EXPECT_THROW(index.nearest(other, {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(index.within_radius(other, {0, 0, 0}, 1.0, out), std::invalid_argument);
+}
+
+TEST(PointIndex, ConcurrentReadersAgreeWithTheOracle) {
+  PointModel m = random_cloud(4000, 31);
+  const PointIndex index(m);
+  const double moved = displace(m, 0.05, 32);
+  const std::vector<Vec3> queries = random_queries(200, 33, 1.2);
+  std::vector<std::vector<std::uint32_t>> want(queries.size());
+  std::vector<std::uint32_t> want_nearest(queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    want[i] = oracle_within(m, queries[i], 0.15);
+    want_nearest[i] = index.nearest(m, queries[i], moved).index;
+  }
+  std::vector<int> failures(4, 0);
+  std::vector<std::thread> readers;
+  for (int t = 0; t < 4; ++t) {
+    readers.emplace_back([&, t] {
+      std::vector<std::uint32_t> out;
+      out.reserve(m.size());
+      for (int round = 0; round < 5; ++round) {
+        for (std::size_t i = 0; i < queries.size(); ++i) {
+          index.within_radius(m, queries[i], 0.15, out, moved);
+          if (out != want[i]) ++failures[t];
+          if (index.nearest(m, queries[i], moved).index != want_nearest[i]) ++failures[t];
+        }
+      }
+    });
+  }
+  for (std::thread& r : readers) r.join();
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(failures[t], 0) << "reader " << t;
+}
+
+}  // namespace
+}  // namespace sculpt::deform
