@@ -1,0 +1,77 @@
+#pragma once
+// From a fingertip probe to a force: collision detection and force set-up (thesis 4.2.1 and
+// 4.3.1, MATH.md §4).
+
+#include <cstdint>
+#include <optional>
+
+#include "sculpt/deform/point_index.hpp"
+#include "sculpt/deform/point_model.hpp"
+#include "sculpt/deform/vec3.hpp"
+
+namespace sculpt::deform {
+
+enum class ContactMode {
+  kPush,  ///< inward force: the probe starts outside and may never enter
+  kPull,  ///< outward force: the probe starts inside and may never leave
+};
+
+/// The thesis's offsets, in model units, and how the inside is told from the outside.
+struct ContactSettings {
+  ContactMode mode = ContactMode::kPush;
+  double bc_radius = 0.05;            ///< eps: points this close to A follow the probe
+  double min_source_distance = 1e-2;  ///< Δd: a source never sits closer than this to A
+  double guard_distance = 1e-1;       ///< Δr: a free finger this close constrains its surface
+  /// Reference point known to be outside (the scanner); used when the model has no normals.
+  std::optional<Vec3> reference;
+
+  /// Throws std::invalid_argument naming the bad setting.
+  void validate() const;
+};
+
+/// The accepted positions of one probe, oldest first. `previous` is the position before
+/// `current`; `earlier` the one before that, when known.
+struct ProbeMotion {
+  Vec3 previous;
+  Vec3 current;
+  std::optional<Vec3> earlier;
+};
+
+/// Where a probe stands against the pseudo-surface.
+struct SurfaceSide {
+  std::uint32_t nearest = PointIndex::kNoPoint;  ///< A, the nearest model point
+  double distance = 0.0;                          ///< |P - A|
+  /// n_A . (P - A) with normals, (P - A) . (R - A) with a reference point: negative inside.
+  double side = 0.0;
+};
+
+/// Nearest point and side of `probe`, exact for a model that moved at most `drift` since the
+/// index was built. The model must have normals or settings.reference must be set.
+SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift,
+                   const Vec3& probe, const ContactSettings& settings);
+
+/// True when a probe at `side` has crossed the surface the way `mode` forbids: inside for a
+/// push, outside for a pull. Grazing (side == 0) is no collision.
+inline bool crossed(ContactMode mode, double side) {
+  return mode == ContactMode::kPush ? side < 0.0 : side > 0.0;
+}
+
+/// How the source point was chosen (the Δd rule).
+enum class SourceRule {
+  kPrevious,    ///< the last probe position before the collision
+  kEarlier,     ///< the one before it, because the previous was closer than Δd to A
+  kPushedBack,  ///< no usable earlier position: moved back from A along -F to distance Δd
+};
+
+struct ForceSetup {
+  Vec3 source;
+  Vec3 force;  ///< F = P_f - A
+  SourceRule rule = SourceRule::kPrevious;
+};
+
+/// F = P_f - A and its source (MATH.md §4): the previous probe position, or the earlier one
+/// when the previous is closer than Δd to A; with neither usable, the point at distance Δd
+/// from A along -F (away from where the probe went), so the kernel is never near-singular.
+ForceSetup set_up_force(const ProbeMotion& motion, const Vec3& contact, double min_source_distance);
+
+}  // namespace sculpt::deform

@@ -1,0 +1,62 @@
+#pragma once
+// The localised region Omega of thesis 4.4.2: only its points move, and a band along its
+// border is pinned with u0 = 0 so the surface does not tear.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "sculpt/deform/point_index.hpp"
+#include "sculpt/deform/point_model.hpp"
+
+namespace sculpt::deform {
+
+struct RegionSettings {
+  enum class Kind {
+    kGlobal,   ///< every point moves; no border
+    kRadius,   ///< the union of balls of `radius` around each contact point
+    kIndices,  ///< a fixed set of point indices
+  };
+  Kind kind = Kind::kGlobal;
+  double radius = 0.0;
+  std::vector<std::uint32_t> indices;  ///< for kIndices
+  /// Width of the pinned band inside the border; 0 means "the contact's bc radius".
+  double border_width = 0.0;
+  /// Weight of the whole band against one contact neighbourhood in the least squares. A single
+  /// Kelvin source cannot hold the band exactly at zero and move the contact onto the probe;
+  /// with weight 1 the band counts as much as the contact, so the contact still nearly reaches
+  /// the probe and the band's residual motion is reported, not hidden.
+  double border_weight = 1.0;
+};
+
+/// The points a frame moves and the band it pins. Buffers are reserved at construction for the
+/// whole model, so build() never allocates.
+class Region {
+ public:
+  /// Validates the settings (throws std::invalid_argument naming the bad value) and reserves.
+  /// For kIndices the border band is found here, once.
+  Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index,
+         double bc_radius);
+
+  /// Collects the region and its border for this frame's contact points.
+  void build(const PointModel& model, const PointIndex& index, double drift,
+             std::span<const Vec3> contacts);
+
+  bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal; }
+  /// Points that move, ascending (empty for a global region: then all points move).
+  std::span<const std::uint32_t> points() const { return points_; }
+  /// Points of the pinned band, ascending; a subset of points().
+  std::span<const std::uint32_t> border() const { return border_; }
+  const RegionSettings& settings() const { return settings_; }
+  double border_width() const { return border_width_; }
+
+ private:
+  RegionSettings settings_;
+  double border_width_;
+  std::vector<std::uint32_t> points_;
+  std::vector<std::uint32_t> border_;
+  std::vector<std::uint32_t> scratch_;
+  std::vector<std::uint8_t> member_;  // per-point flag, kept all-zero between frames
+};
+
+}  // namespace sculpt::deform
