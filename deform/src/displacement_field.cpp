@@ -37,50 +37,74 @@ SourceTable<T> make_table(const Kernel& kernel, std::span<const SourceForce> sou
   return t;
 }
 
+// Points are processed in blocks: positions are gathered into small stack arrays, every source
+// is added over the whole block (the innermost loop runs over points, so it vectorises), then
+// the block is written back. The loop over sources stays outside: with at most ten of them an
+// inner loop over sources would be too short to vectorise.
+constexpr std::size_t kBlock = 128;
+
+template <typename T>
+struct Block {
+  std::size_t size = 0;
+  alignas(64) T qx[kBlock], qy[kBlock], qz[kBlock];
+  alignas(64) T ux[kBlock], uy[kBlock], uz[kBlock];
+};
+
 // u(Q) = sum_s (alpha/r + beta/r^3) f_s + gamma/r^3 (r.f_s) r; see KernelCoefficients.
 template <typename T>
-inline void displacement_at(const SourceTable<T>& t, T qx, T qy, T qz, T& ux, T& uy, T& uz) {
-  ux = uy = uz = T(0);
+void add_displacements(const SourceTable<T>& t, Block<T>& b) {
+  for (std::size_t k = 0; k < b.size; ++k) b.ux[k] = b.uy[k] = b.uz[k] = T(0);
   for (std::size_t s = 0; s < t.count; ++s) {
-    const T rx = qx - t.px[s], ry = qy - t.py[s], rz = qz - t.pz[s];
-    const T r2 = rx * rx + ry * ry + rz * rz + t.eps2;
-    const T inv = T(1) / std::sqrt(r2);
-    const T inv3 = inv * inv * inv;
-    const T rf = rx * t.fx[s] + ry * t.fy[s] + rz * t.fz[s];
-    const T diag = t.alpha * inv + t.beta * inv3;
-    const T radial = t.gamma * inv3 * rf;
-    ux += diag * t.fx[s] + radial * rx;
-    uy += diag * t.fy[s] + radial * ry;
-    uz += diag * t.fz[s] + radial * rz;
+    const T px = t.px[s], py = t.py[s], pz = t.pz[s];
+    const T fx = t.fx[s], fy = t.fy[s], fz = t.fz[s];
+    const T alpha = t.alpha, beta = t.beta, gamma = t.gamma, eps2 = t.eps2;
+#pragma GCC ivdep
+    for (std::size_t k = 0; k < b.size; ++k) {
+      const T rx = b.qx[k] - px, ry = b.qy[k] - py, rz = b.qz[k] - pz;
+      const T r2 = rx * rx + ry * ry + rz * rz + eps2;
+      const T inv = T(1) / std::sqrt(r2);
+      const T inv3 = inv * inv * inv;
+      const T rf = rx * fx + ry * fy + rz * fz;
+      const T diag = alpha * inv + beta * inv3;
+      const T radial = gamma * inv3 * rf;
+      b.ux[k] += diag * fx + radial * rx;
+      b.uy[k] += diag * fy + radial * ry;
+      b.uz[k] += diag * fz + radial * rz;
+    }
   }
 }
 
-// Displacement and its gradient g[l][m] = du_l/dQ_m (same formula as displacement_gradient).
+// The displacement gradient g_lm = du_l/dQ_m over a block (same formula as
+// displacement_gradient), for carrying normals.
 template <typename T>
-inline void displacement_and_gradient_at(const SourceTable<T>& t, T qx, T qy, T qz, T u[3],
-                                         T g[3][3]) {
-  for (int l = 0; l < 3; ++l) {
-    u[l] = T(0);
-    for (int m = 0; m < 3; ++m) g[l][m] = T(0);
-  }
+struct GradientBlock {
+  alignas(64) T g[3][3][kBlock];
+};
+
+template <typename T>
+void add_gradients(const SourceTable<T>& t, const Block<T>& b, GradientBlock<T>& gb) {
+  for (int l = 0; l < 3; ++l)
+    for (int m = 0; m < 3; ++m)
+      for (std::size_t k = 0; k < b.size; ++k) gb.g[l][m][k] = T(0);
   for (std::size_t s = 0; s < t.count; ++s) {
-    const T r[3] = {qx - t.px[s], qy - t.py[s], qz - t.pz[s]};
+    const T px = t.px[s], py = t.py[s], pz = t.pz[s];
     const T f[3] = {t.fx[s], t.fy[s], t.fz[s]};
-    const T r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + t.eps2;
-    const T inv = T(1) / std::sqrt(r2);
-    const T inv3 = inv / r2;
-    const T inv5 = inv3 / r2;
-    const T rf = r[0] * f[0] + r[1] * f[1] + r[2] * f[2];
-    const T diag = t.alpha * inv + t.beta * inv3;
-    const T h = t.gamma * inv3;
-    const T g_prime = -t.alpha * inv3 - T(3) * t.beta * inv5;
-    const T h_prime = T(-3) * t.gamma * inv5;
-    for (int l = 0; l < 3; ++l) {
-      u[l] += diag * f[l] + h * rf * r[l];
-      for (int m = 0; m < 3; ++m) {
-        g[l][m] += g_prime * f[l] * r[m] + h_prime * rf * r[l] * r[m] + h * r[l] * f[m];
+    for (std::size_t k = 0; k < b.size; ++k) {
+      const T r[3] = {b.qx[k] - px, b.qy[k] - py, b.qz[k] - pz};
+      const T r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + t.eps2;
+      const T inv = T(1) / std::sqrt(r2);
+      const T inv3 = inv / r2;
+      const T inv5 = inv3 / r2;
+      const T rf = r[0] * f[0] + r[1] * f[1] + r[2] * f[2];
+      const T h = t.gamma * inv3;
+      const T g_prime = -t.alpha * inv3 - T(3) * t.beta * inv5;
+      const T h_prime = T(-3) * t.gamma * inv5;
+      for (int l = 0; l < 3; ++l) {
+        for (int m = 0; m < 3; ++m) {
+          gb.g[l][m][k] += g_prime * f[l] * r[m] + h_prime * rf * r[l] * r[m] + h * r[l] * f[m];
+        }
+        gb.g[l][l][k] += h * rf;
       }
-      g[l][l] += h * rf;
     }
   }
 }
@@ -88,23 +112,24 @@ inline void displacement_and_gradient_at(const SourceTable<T>& t, T qx, T qy, T 
 // n' = normalize(F^-T n) with F = I + grad u. F^-T = cof(F) / det F, so the cofactor matrix
 // suffices; the sign of det keeps the normal's side when an extreme edit inverts the element.
 template <typename T>
-inline void carry_normal(const T g[3][3], T& nx, T& ny, T& nz) {
-  const T f00 = T(1) + g[0][0], f01 = g[0][1], f02 = g[0][2];
-  const T f10 = g[1][0], f11 = T(1) + g[1][1], f12 = g[1][2];
-  const T f20 = g[2][0], f21 = g[2][1], f22 = T(1) + g[2][2];
+inline void carry_normal(const GradientBlock<T>& gb, std::size_t k, float& nx, float& ny, float& nz) {
+  const T f00 = T(1) + gb.g[0][0][k], f01 = gb.g[0][1][k], f02 = gb.g[0][2][k];
+  const T f10 = gb.g[1][0][k], f11 = T(1) + gb.g[1][1][k], f12 = gb.g[1][2][k];
+  const T f20 = gb.g[2][0][k], f21 = gb.g[2][1][k], f22 = T(1) + gb.g[2][2][k];
   const T c00 = f11 * f22 - f12 * f21, c01 = f12 * f20 - f10 * f22, c02 = f10 * f21 - f11 * f20;
   const T c10 = f02 * f21 - f01 * f22, c11 = f00 * f22 - f02 * f20, c12 = f01 * f20 - f00 * f21;
   const T c20 = f01 * f12 - f02 * f11, c21 = f02 * f10 - f00 * f12, c22 = f00 * f11 - f01 * f10;
   const T det = f00 * c00 + f01 * c01 + f02 * c02;
-  T mx = c00 * nx + c01 * ny + c02 * nz;
-  T my = c10 * nx + c11 * ny + c12 * nz;
-  T mz = c20 * nx + c21 * ny + c22 * nz;
+  const T n0 = nx, n1 = ny, n2 = nz;
+  const T mx = c00 * n0 + c01 * n1 + c02 * n2;
+  const T my = c10 * n0 + c11 * n1 + c12 * n2;
+  const T mz = c20 * n0 + c21 * n1 + c22 * n2;
   const T len = std::sqrt(mx * mx + my * my + mz * mz);
   if (!(len > T(0))) return;  // degenerate gradient: keep the old normal rather than write NaN
   const T scale = (det < T(0) ? T(-1) : T(1)) / len;
-  nx = mx * scale;
-  ny = my * scale;
-  nz = mz * scale;
+  nx = static_cast<float>(mx * scale);
+  ny = static_cast<float>(my * scale);
+  nz = static_cast<float>(mz * scale);
 }
 
 template <typename T, typename IndexOf>
@@ -113,34 +138,32 @@ double apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count
   float* __restrict x = model.x.data();
   float* __restrict y = model.y.data();
   float* __restrict z = model.z.data();
+  Block<T> b;
+  GradientBlock<T> gb;
   T max_squared = T(0);
-  if (!carry_normals) {
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t i = index_of(k);
-      T ux, uy, uz;
-      displacement_at(t, T(x[i]), T(y[i]), T(z[i]), ux, uy, uz);
-      x[i] = static_cast<float>(T(x[i]) + ux);
-      y[i] = static_cast<float>(T(y[i]) + uy);
-      z[i] = static_cast<float>(T(z[i]) + uz);
-      max_squared = std::max(max_squared, ux * ux + uy * uy + uz * uz);
+  for (std::size_t begin = 0; begin < count; begin += kBlock) {
+    b.size = std::min(kBlock, count - begin);
+    for (std::size_t k = 0; k < b.size; ++k) {
+      const std::size_t i = index_of(begin + k);
+      b.qx[k] = x[i];
+      b.qy[k] = y[i];
+      b.qz[k] = z[i];
     }
-  } else {
-    float* __restrict nx = model.nx.data();
-    float* __restrict ny = model.ny.data();
-    float* __restrict nz = model.nz.data();
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t i = index_of(k);
-      T u[3], g[3][3];
-      displacement_and_gradient_at(t, T(x[i]), T(y[i]), T(z[i]), u, g);
-      T n0 = nx[i], n1 = ny[i], n2 = nz[i];
-      carry_normal(g, n0, n1, n2);
-      nx[i] = static_cast<float>(n0);
-      ny[i] = static_cast<float>(n1);
-      nz[i] = static_cast<float>(n2);
-      x[i] = static_cast<float>(T(x[i]) + u[0]);
-      y[i] = static_cast<float>(T(y[i]) + u[1]);
-      z[i] = static_cast<float>(T(z[i]) + u[2]);
-      max_squared = std::max(max_squared, u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    add_displacements(t, b);
+    if (carry_normals) {
+      add_gradients(t, b, gb);
+      for (std::size_t k = 0; k < b.size; ++k) {
+        const std::size_t i = index_of(begin + k);
+        carry_normal(gb, k, model.nx[i], model.ny[i], model.nz[i]);
+      }
+    }
+    for (std::size_t k = 0; k < b.size; ++k) {
+      const std::size_t i = index_of(begin + k);
+      x[i] = static_cast<float>(b.qx[k] + b.ux[k]);
+      y[i] = static_cast<float>(b.qy[k] + b.uy[k]);
+      z[i] = static_cast<float>(b.qz[k] + b.uz[k]);
+      const T u2 = b.ux[k] * b.ux[k] + b.uy[k] * b.uy[k] + b.uz[k] * b.uz[k];
+      max_squared = u2 > max_squared ? u2 : max_squared;
     }
   }
   return std::sqrt(static_cast<double>(max_squared));
@@ -154,7 +177,7 @@ double apply_in(PointModel& model, const Kernel& kernel, std::span<const SourceF
     return apply_typed(model, table, model.size(), [](std::size_t k) { return k; }, carry_normals);
   }
   const std::uint32_t* idx = indices.data();
-  return apply_typed(model, table, indices.size(), [idx](std::size_t k) { return idx[k]; },
+  return apply_typed(model, table, indices.size(), [idx](std::size_t k) { return std::size_t{idx[k]}; },
                      carry_normals);
 }
 
