@@ -1,5 +1,7 @@
 #include "sculpt/deform/deformer.hpp"
 
+#include "sculpt/deform/model_scale.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -42,19 +44,7 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   if (settings_.traction) {
     // Area per point from the mean nearest-neighbour spacing s (a square grid of pitch s has
     // s^2 per point): enough to turn traction into a resultant force for haptics.
-    std::vector<std::uint32_t> idx;
-    std::vector<double> d2;
-    double sum = 0.0;
-    std::size_t count = 0;
-    const std::size_t step = std::max<std::size_t>(1, n / 2000);
-    for (std::size_t i = 0; i < n; i += step) {
-      index_.k_nearest(model_.position(i), 2, idx, d2);
-      if (d2.size() == 2) {
-        sum += std::sqrt(d2[1]);
-        ++count;
-      }
-    }
-    const double spacing = count ? sum / static_cast<double>(count) : 0.0;
+    const double spacing = mean_spacing(model_, index_);
     point_area_ = spacing * spacing;
   }
 }
