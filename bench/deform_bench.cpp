@@ -1,0 +1,137 @@
+// One collision frame, end to end (collision detection, boundary conditions, solve, update),
+// on the thesis's sphere and on real scans, in float and double. Figures go to the README.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sculpt/deform/deformer.hpp"
+#include "sculpt/deform/generators.hpp"
+#include "sculpt/deform/model_io.hpp"
+#include "sculpt/deform/model_scale.hpp"
+#include "sculpt/deform/normals.hpp"
+
+namespace {
+
+using namespace sculpt::deform;
+
+// Models are loaded once and shared by every benchmark that names them.
+const PointModel* load(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<PointModel>> cache;
+  auto it = cache.find(name);
+  if (it != cache.end()) return it->second.get();
+  std::unique_ptr<PointModel> model;
+  if (name == "sphere") {
+    model = std::make_unique<PointModel>(make_sphere());
+  } else {
+    const std::string path = std::string(SCULPT_SOURCE_DIR) + "/data/scans/" + name;
+    if (!std::filesystem::exists(path)) return nullptr;
+    model = std::make_unique<PointModel>(read_model(path));
+    ensure_normals(*model);
+  }
+  return cache.emplace(name, std::move(model)).first->second.get();
+}
+
+// Fingers spread over the model: each probe starts two spacings outside a surface point and
+// presses one spacing in, the way a glove finger meets the surface between two samples.
+std::vector<ProbeMotion> spread_probes(const PointModel& m, std::size_t fingers, double spacing) {
+  std::vector<ProbeMotion> probes;
+  const std::size_t step = m.size() / (fingers + 1);
+  for (std::size_t f = 0; f < fingers; ++f) {
+    const std::size_t i = (f + 1) * step;
+    const Vec3 a = m.position(i), n = m.normal(i);
+    probes.push_back({a + n * (2.0 * spacing), a - n * spacing, std::nullopt});
+  }
+  return probes;
+}
+
+void frame(benchmark::State& state, const std::string& name, Precision precision, double region_spacings) {
+  const PointModel* source = load(name);
+  if (!source) {
+    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
+    return;
+  }
+  const std::size_t fingers = static_cast<std::size_t>(state.range(0));
+  PointModel model = *source;
+  DeformSettings settings;
+  const double spacing = mean_spacing(model, PointIndex(model));
+  settings.contact.bc_radius = spacing;
+  settings.contact.min_source_distance = 0.25 * spacing;
+  settings.contact.guard_distance = 1.5 * spacing;
+  settings.field.precision = precision;
+  if (region_spacings > 0.0) {
+    settings.region.kind = RegionSettings::Kind::kRadius;
+    settings.region.radius = region_spacings * spacing;
+  }
+  Deformer deformer(model, settings);
+  const std::vector<ProbeMotion> probes = spread_probes(*source, fingers, spacing);
+  std::size_t moved = 0, collisions = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    model.x = source->x;  // every iteration deforms the same undeformed model
+    model.y = source->y;
+    model.z = source->z;
+    model.nx = source->nx;
+    model.ny = source->ny;
+    model.nz = source->nz;
+    deformer.rebuild_index();  // the drift bound restarts with the restored positions
+    state.ResumeTiming();
+    const FrameReport& r = deformer.deform(probes);
+    benchmark::DoNotOptimize(model.x.data());
+    moved = r.region_points;
+    collisions = r.collisions;
+  }
+  if (collisions != fingers) state.SkipWithError("not every finger collided");
+  state.counters["points"] = static_cast<double>(model.size());
+  state.counters["moved"] = static_cast<double>(moved);
+  state.counters["frames/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+// The bare per-point loop: five Kelvin sources added to 100,000 points (the brief's 0.22 ms).
+void bare_loop(benchmark::State& state, Precision precision) {
+  PointModel model = make_sphere(100000);
+  model.clear_normals();
+  const Kernel kernel;
+  std::vector<SourceForce> sources;
+  for (int s = 0; s < 5; ++s) sources.push_back({{0.3 * s, 0.0, 1.5}, {0.0, 0.0, -1e-3}});
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(apply_displacements(model, kernel, sources, {}, true, {precision, false}));
+  }
+  state.counters["points/s"] = benchmark::Counter(1e5 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void register_all() {
+  using benchmark::RegisterBenchmark;
+  const auto ms = benchmark::kMillisecond;
+  for (auto [precision, tag] : {std::pair{Precision::kFloat, "float"}, std::pair{Precision::kDouble, "double"}}) {
+    const Precision p = precision;
+    RegisterBenchmark((std::string("BareLoop5x100k/") + tag).c_str(), [p](benchmark::State& s) { bare_loop(s, p); })
+        ->Unit(benchmark::kMicrosecond);
+    RegisterBenchmark((std::string("Sphere3203/global/") + tag).c_str(),
+                      [p](benchmark::State& s) { frame(s, "sphere", p, 0.0); })
+        ->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMicrosecond);
+    for (const char* scan : {"snowden_54559.ply", "dragon_100250.ply", "dragon_437645.ply"}) {
+      const std::string name = scan;
+      RegisterBenchmark(("Scan/" + name + "/global/" + tag).c_str(),
+                        [p, name](benchmark::State& s) { frame(s, name, p, 0.0); })
+          ->Arg(1)->Arg(5)->Unit(ms);
+      RegisterBenchmark(("Scan/" + name + "/region20/" + tag).c_str(),
+                        [p, name](benchmark::State& s) { frame(s, name, p, 20.0); })
+          ->Arg(1)->Arg(5)->Unit(ms);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Every test: set up a fresh Debian 12, build with warnings as errors, run the suite, then
+# rebuild under AddressSanitizer + UndefinedBehaviorSanitizer and run it again (the parsers'
+# fuzz tests are the point of that second run).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+bash scripts/setup.sh
+jobs="$(nproc)"
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-Werror >/dev/null
+cmake --build build -j"$jobs"
+(cd build && ctest --output-on-failure -j"$jobs")
+
+cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSCULPT_SANITIZE=ON \
+  -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="-O1 -Werror" >/dev/null
+cmake --build build-sanitize -j"$jobs"
+(cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j"$jobs")

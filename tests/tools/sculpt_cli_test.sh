@@ -1,0 +1,119 @@
+#!/usr/bin/env bash
+# The sculpt command line as a user runs it: real binary, exit codes, files, JSON.
+# Usage: SCULPT=path/to/sculpt sculpt_cli_test.sh   (ctest sets SCULPT)
+set -uo pipefail
+: "${SCULPT:?set SCULPT to the sculpt binary}"
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+repo="$(cd "$here/../.." && pwd)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); echo "ok   $1"; }
+bad() { failed=$((failed + 1)); echo "FAIL $1"; }
+
+# expect_exit CODE NAME -- COMMAND...: runs it, checks the exit code, keeps stdout/stderr.
+expect_exit() {
+  local code="$1" name="$2"
+  shift 3
+  "$@" >"$work/out" 2>"$work/err"
+  local got=$?
+  if [[ $got -eq $code ]]; then ok "$name"; else bad "$name (exit $got, wanted $code): $(head -c 300 "$work/err")"; fi
+}
+
+# expect_json NAME PYTHON-EXPRESSION over j (the JSON report)
+expect_json() {
+  if python3 -c "import json,sys; j=json.load(open('$work/report.json')); sys.exit(0 if ($2) else 1)"; then
+    ok "$1"
+  else
+    bad "$1: $2"
+  fi
+}
+
+one_line_error() {  # stderr is a single line naming $2
+  if [[ $(wc -l <"$work/err") -eq 1 ]] && grep -q -- "$2" "$work/err"; then ok "$1"; else bad "$1: stderr was: $(cat "$work/err")"; fi
+}
+
+sphere="$repo/data/sphere_3203.ply"
+
+# The bundled sphere is exactly what the generator makes.
+expect_exit 0 "generate sphere" -- "$SCULPT" generate sphere --out "$work/sphere.ply"
+if cmp -s "$work/sphere.ply" "$sphere"; then ok "bundled sphere equals generated one"; else bad "bundled sphere differs from sculpt generate sphere"; fi
+
+# One push at the pole: a collision, every point moved, the output readable again.
+expect_exit 0 "single push" -- "$SCULPT" deform --model "$sphere" --out "$work/pushed.ply" \
+  --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
+expect_json "push collided" "j['collisions'] == 1 and j['contacts'][0]['collided'] and j['contacts'][0]['state'] == 'collided'"
+expect_json "push reports solve" "j['solve']['ok'] and j['solve']['rows'] > 0 and 'condition' in j['contacts'][0] and j['contacts'][0]['relative_residual'] < 1"
+expect_json "push moved every point" "j['points_moved'] == 3203 and j['max_displacement'] > 0.03"
+expect_json "push force is F = P_f - A" "abs(j['contacts'][0]['force'][2] - (0.95 - j['contacts'][0]['nearest_point'][2])) < 1e-9"
+expect_json "push reports timing" "j['time_ms']['frame'] > 0"
+expect_exit 0 "deformed file reads back" -- "$SCULPT" deform --model "$work/pushed.ply" --contact 0,0,3:0,0,2.9 --json "$work/report.json"
+expect_json "re-read file has the model's points" "j['points'] == 3203 and j['normals'] == 'file'"
+if grep -q "collision(s)" "$work/out"; then ok "summary printed"; else bad "no summary on stdout"; fi
+
+# Two contacts, one frame: solved jointly.
+expect_exit 0 "two fingers" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 \
+  --contact 1.1,0,0:0.95,0,0 --json "$work/report.json"
+expect_json "two collisions, six unknowns" "j['collisions'] == 2 and j['solve']['unknowns'] == 6"
+
+# A pull is detected from a start inside the sphere.
+expect_exit 0 "pull" -- "$SCULPT" deform --model "$sphere" --contact 0,0,0.9:0,0,1.05 --json "$work/report.json"
+expect_json "pull mode chosen, force outward" "j['mode'] == 'pull' and j['contacts'][0]['force'][2] > 0"
+
+# Region: only points near the contact move.
+expect_exit 0 "region" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --region 0.5 \
+  --json "$work/report.json" --double --kernel regularized --eps-reg 0.02 --form force
+expect_json "region moved fewer points" "0 < j['points_moved'] < 3203 and j['border_points'] > 0 and j['precision'] == 'double' and j['kernel'] == 'regularized'"
+
+# No collision is not an error.
+expect_exit 0 "no collision" -- "$SCULPT" deform --model "$sphere" --contact 0,0,2:0,0,1.5 --json "$work/report.json"
+expect_json "nothing moved" "j['collisions'] == 0 and j['points_moved'] == 0 and not j['contacts'][0]['collided']"
+
+# A model without normals: the thesis's reference point, or estimated normals.
+python3 - "$sphere" "$work/bare.xyz" <<'PY'
+import struct, sys
+data = open(sys.argv[1], 'rb').read()
+end = data.index(b'end_header\n') + len(b'end_header\n')
+header = data[:end].decode().split('\n')
+n = int([l for l in header if l.startswith('element vertex')][0].split()[2])
+props = [l.split()[2] for l in header if l.startswith('property')]
+stride = 4 * len(props)
+with open(sys.argv[2], 'w') as out:
+    for i in range(n):
+        v = struct.unpack_from('<%df' % len(props), data, end + i * stride)
+        out.write('%r %r %r\n' % (v[0], v[1], v[2]))
+PY
+expect_exit 0 "reference point" -- "$SCULPT" deform --model "$work/bare.xyz" --reference 0,0,10 --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
+expect_json "collision found with the reference point" "j['collisions'] == 1 and j['normals'] == 'none'"
+expect_exit 0 "estimated normals" -- "$SCULPT" deform --model "$work/bare.xyz" --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
+expect_json "collision found with PCA normals" "j['collisions'] == 1 and j['normals'] == 'estimated (PCA)'"
+
+# Bad arguments: one line on stderr, exit 2.
+expect_exit 2 "missing --contact" -- "$SCULPT" deform --model "$sphere"
+one_line_error "missing --contact names it" "contact"
+expect_exit 2 "malformed contact" -- "$SCULPT" deform --model "$sphere" --contact 1,2:3,4,5
+one_line_error "malformed contact names it" "'1,2'"
+expect_exit 2 "non-numeric contact" -- "$SCULPT" deform --model "$sphere" --contact 0,0,x:0,0,1
+one_line_error "non-numeric names the field" "'x'"
+expect_exit 2 "nu out of range" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --nu 0.7
+one_line_error "nu error names nu" "Poisson"
+expect_exit 2 "unknown kernel" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --kernel magic
+one_line_error "unknown kernel names it" "magic"
+expect_exit 2 "regularized without eps" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --kernel regularized
+one_line_error "regularized names --eps-reg" "eps-reg"
+expect_exit 2 "region too small" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --region 0.01
+one_line_error "region error names the radius" "region"
+expect_exit 2 "unknown option" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --frobnicate
+one_line_error "unknown option named" "frobnicate"
+
+# Bad model files: exit 1, the file named.
+expect_exit 1 "missing model" -- "$SCULPT" deform --model "$work/nope.ply" --contact 0,0,1.1:0,0,0.9
+one_line_error "missing model named" "nope.ply"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 1\n' >"$work/broken.ply"
+expect_exit 1 "truncated model" -- "$SCULPT" deform --model "$work/broken.ply" --contact 0,0,1.1:0,0,0.9
+one_line_error "truncated model names file and line" "broken.ply: line"
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]

@@ -1,0 +1,29 @@
+#pragma once
+// The sculpt subcommands. Each registers its options on the CLI11 app and runs after parsing;
+// CLI11 stays out of this header because it is slow to compile.
+
+#include <memory>
+
+namespace CLI {
+class App;
+}
+
+namespace sculpt::tools {
+
+/// Exit codes of every subcommand.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;  ///< the input could not be processed (unreadable model, ...)
+inline constexpr int kExitUsage = 2;    ///< bad arguments
+
+/// A registered subcommand: run() is called when the user chose it.
+class Command {
+ public:
+  virtual ~Command() = default;
+  virtual bool chosen() const = 0;
+  virtual int run() = 0;
+};
+
+std::unique_ptr<Command> add_deform_command(CLI::App& app);
+std::unique_ptr<Command> add_generate_command(CLI::App& app);
+
+}  // namespace sculpt::tools

@@ -1,0 +1,331 @@
+// sculpt deform: one collision frame on a model file, for scripting and checks. Every contact of
+// one invocation is one frame, solved jointly (MATH.md §3-4).
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+
+#include "commands.hpp"
+#include "sculpt/deform/deformer.hpp"
+#include "sculpt/deform/model_io.hpp"
+#include "sculpt/deform/model_scale.hpp"
+#include "sculpt/deform/normals.hpp"
+#include "vector_argument.hpp"
+
+namespace sculpt::tools {
+namespace {
+
+using deform::Vec3;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+nlohmann::json to_json(const Vec3& v) { return {v.x, v.y, v.z}; }
+
+const char* state_name(deform::ProbeState s) {
+  switch (s) {
+    case deform::ProbeState::kFree: return "free";
+    case deform::ProbeState::kGuarded: return "guarded";
+    case deform::ProbeState::kCollided: return "collided";
+    case deform::ProbeState::kStartedInside: return "started_inside";
+  }
+  return "?";
+}
+
+const char* rule_name(deform::SourceRule r) {
+  switch (r) {
+    case deform::SourceRule::kPrevious: return "previous";
+    case deform::SourceRule::kEarlier: return "earlier";
+    case deform::SourceRule::kPushedBack: return "pushed_back";
+  }
+  return "?";
+}
+
+std::string format(const Vec3& v) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "(%.6g, %.6g, %.6g)", v.x, v.y, v.z);
+  return buffer;
+}
+
+class DeformCommand final : public Command {
+ public:
+  explicit DeformCommand(CLI::App& app) {
+    sub_ = app.add_subcommand("deform", "Apply one collision frame of fingertip contacts to a model file");
+    sub_->add_option("--model", model_path_, "Input model (.ply, .off or .xyz)")->required();
+    sub_->add_option("--out", out_path_, "Write the deformed model here (.ply or .xyz)");
+    sub_->add_option("--contact", contacts_,
+                     "X0,Y0,Z0:X1,Y1,Z1 probe before (outside) and after (pressed in); one per finger")
+        ->required()->take_all();
+    sub_->add_option("--G", material_.shear_modulus, "Shear modulus G")->default_val(3e7);
+    sub_->add_option("--nu", material_.poisson_ratio, "Poisson's ratio nu, in (-1, 0.5]")->default_val(0.45);
+    sub_->add_option("--kernel", kernel_, "kelvin | regularized")->check(CLI::IsMember({"kelvin", "regularized"}))->default_val("kelvin");
+    eps_reg_option_ = sub_->add_option("--eps-reg", eps_reg_, "Regularization radius of the regularized kernel (model units)");
+    sub_->add_option("--form", form_, "force (thesis ch. 3: weights are the force) | scale (ch. 4: weights scale F)")
+        ->check(CLI::IsMember({"force", "scale"}))->default_val("scale");
+    sub_->add_option("--mode", mode_, "push | pull | auto (pull when every contact starts inside)")
+        ->check(CLI::IsMember({"push", "pull", "auto"}))->default_val("auto");
+    bc_option_ = sub_->add_option("--bc-radius", bc_radius_, "eps: points this close to A follow the probe [mean spacing]");
+    dd_option_ = sub_->add_option("--delta-d", delta_d_, "Δd: least source distance from A [0.25 x mean spacing]");
+    dr_option_ = sub_->add_option("--delta-r", delta_r_, "Δr: a free finger this close pins its surface [1.5 x mean spacing]");
+    region_option_ = sub_->add_option("--region", region_radius_, "Move only points within this radius of a contact (default: all)");
+    sub_->add_option("--border-weight", border_weight_, "Weight of the region's pinned band against a contact")->default_val(1.0);
+    reference_option_ = sub_->add_option("--reference", reference_text_, "X,Y,Z point known to be outside (for models without normals)");
+    sub_->add_flag("--double", use_double_, "Evaluate the per-point loop in double instead of float");
+    sub_->add_option("--encoding", encoding_, "ascii | binary | binary_big_endian for a .ply output")
+        ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))->default_val("binary");
+    sub_->add_option("--json", json_path_, "Also write the report as JSON here");
+  }
+
+  bool chosen() const override { return sub_->parsed(); }
+
+  int run() override {
+    deform::DeformSettings settings;
+    std::vector<deform::ProbeMotion> probes;
+    std::optional<Vec3> reference;
+    // Everything about the arguments is checked before the model is read: a typo costs nothing.
+    try {
+      for (const std::string& text : contacts_) {
+        std::string error;
+        auto probe = parse_contact(text, error);
+        if (!probe) throw std::invalid_argument("--contact: " + error);
+        probes.push_back(*probe);
+      }
+      if (probes.size() > deform::kMaxSources) {
+        throw std::invalid_argument("--contact: at most " + std::to_string(deform::kMaxSources) +
+                                    " contacts in one frame, got " + std::to_string(probes.size()));
+      }
+      if (reference_option_->count()) {
+        std::string error;
+        reference = parse_vec3(reference_text_, error);
+        if (!reference) throw std::invalid_argument("--reference: " + error);
+      }
+      settings.kernel.material = material_;
+      settings.kernel.kind = kernel_ == "kelvin" ? deform::KernelKind::kKelvin : deform::KernelKind::kRegularized;
+      if (settings.kernel.kind == deform::KernelKind::kRegularized && !eps_reg_option_->count()) {
+        throw std::invalid_argument("--kernel regularized needs --eps-reg");
+      }
+      if (settings.kernel.kind == deform::KernelKind::kKelvin && eps_reg_option_->count()) {
+        throw std::invalid_argument("--eps-reg applies only to --kernel regularized");
+      }
+      settings.kernel.regularization = eps_reg_;
+      settings.kernel.validate();
+      auto positive = [](CLI::Option* o, double v, const char* name) {
+        if (o->count() && !(v > 0.0 && std::isfinite(v))) {
+          throw std::invalid_argument(std::string(name) + " must be a positive number");
+        }
+      };
+      positive(bc_option_, bc_radius_, "--bc-radius");
+      positive(dd_option_, delta_d_, "--delta-d");
+      positive(region_option_, region_radius_, "--region");
+      if (dr_option_->count() && !(delta_r_ >= 0.0)) throw std::invalid_argument("--delta-r must be >= 0");
+      if (!(border_weight_ >= 0.0)) throw std::invalid_argument("--border-weight must be >= 0");
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "sculpt deform: error: " << e.what() << "\n";
+      return kExitUsage;
+    }
+
+    try {
+      return deform_model(settings, probes, reference);
+    } catch (const deform::ModelFileError& e) {
+      std::cerr << "sculpt deform: error: " << e.what() << "\n";
+      return kExitFailure;
+    } catch (const std::invalid_argument& e) {  // settings that do not fit this model
+      std::cerr << "sculpt deform: error: " << e.what() << "\n";
+      return kExitUsage;
+    } catch (const std::exception& e) {
+      std::cerr << "sculpt deform: error: " << e.what() << "\n";
+      return kExitFailure;
+    }
+  }
+
+ private:
+  int deform_model(deform::DeformSettings settings, std::vector<deform::ProbeMotion>& probes,
+                   const std::optional<Vec3>& reference) {
+    const auto load_start = Clock::now();
+    deform::PointModel model = deform::read_model(model_path_);
+    const double load_ms = ms_since(load_start);
+    std::string normals_source = model.has_normals() ? "file" : "none";
+    if (!model.has_normals() && !reference) {
+      normals_source = model.triangles.empty() ? "estimated (PCA)" : "from faces";
+      deform::ensure_normals(model);
+    }
+
+    const auto setup_start = Clock::now();
+    const double spacing = deform::mean_spacing(model, deform::PointIndex(model));
+    deform::ContactSettings& contact = settings.contact;
+    contact.bc_radius = bc_option_->count() ? bc_radius_ : spacing;
+    contact.min_source_distance = dd_option_->count() ? delta_d_ : 0.25 * spacing;
+    contact.guard_distance = dr_option_->count() ? delta_r_ : 1.5 * spacing;
+    contact.reference = reference;
+    contact.mode = choose_mode(model, probes, contact);
+    settings.solver.form = form_ == "force" ? deform::WeightForm::kForce : deform::WeightForm::kScale;
+    settings.field.precision = use_double_ ? deform::Precision::kDouble : deform::Precision::kFloat;
+    if (region_option_->count()) {
+      settings.region.kind = deform::RegionSettings::Kind::kRadius;
+      settings.region.radius = region_radius_;
+    }
+    settings.region.border_weight = border_weight_;
+    settings.traction = model.has_normals();
+    deform::Deformer deformer(model, settings);
+    const double setup_ms = ms_since(setup_start);
+
+    const auto frame_start = Clock::now();
+    const deform::FrameReport& report = deformer.deform(probes);
+    const double frame_ms = ms_since(frame_start);
+
+    double write_ms = 0.0;
+    if (!out_path_.empty()) {
+      const auto write_start = Clock::now();
+      const auto encoding = encoding_ == "ascii" ? deform::PlyEncoding::kAscii
+                            : encoding_ == "binary" ? deform::PlyEncoding::kBinaryLittleEndian
+                                                    : deform::PlyEncoding::kBinaryBigEndian;
+      deform::write_model(out_path_, model, encoding);
+      write_ms = ms_since(write_start);
+    }
+
+    nlohmann::json json = make_json(model, settings, normals_source, spacing, report);
+    json["time_ms"] = {{"load", load_ms}, {"setup", setup_ms}, {"frame", frame_ms}, {"write", write_ms}};
+    print_summary(model, settings, normals_source, report, frame_ms);
+    if (!json_path_.empty()) {
+      std::ofstream file(json_path_);
+      file << json.dump(2) << "\n";
+      if (!file) throw std::runtime_error("cannot write " + json_path_);
+    }
+    return kExitOk;
+  }
+
+  deform::ContactMode choose_mode(const deform::PointModel& model, const std::vector<deform::ProbeMotion>& probes,
+                                  const deform::ContactSettings& contact) const {
+    if (mode_ == "push") return deform::ContactMode::kPush;
+    if (mode_ == "pull") return deform::ContactMode::kPull;
+    const deform::PointIndex index(model);
+    for (const deform::ProbeMotion& p : probes) {
+      if (deform::locate(model, index, 0.0, p.previous, contact).side >= 0.0) return deform::ContactMode::kPush;
+    }
+    return deform::ContactMode::kPull;
+  }
+
+  nlohmann::json make_json(const deform::PointModel& model, const deform::DeformSettings& s,
+                           const std::string& normals_source, double spacing,
+                           const deform::FrameReport& r) const {
+    using nlohmann::json;
+    json solve = {{"ok", r.solve.ok},
+                  {"rows", r.solve.rows},
+                  {"unknowns", r.solve.unknowns},
+                  {"rank", r.solve.rank},
+                  {"residual", r.solve.residual},
+                  {"relative_residual", r.solve.relative_residual},
+                  {"condition", std::isfinite(r.solve.condition) ? json(r.solve.condition) : json("inf")},
+                  {"effective_condition", r.solve.effective_condition},
+                  {"damped", r.solve.damped}};
+    json contacts = json::array();
+    for (std::size_t i = 0; i < contacts_.size(); ++i) {
+      const deform::ContactReport& c = r.contacts[i];
+      const bool collided = c.state == deform::ProbeState::kCollided;
+      json entry = {{"contact", i},
+                    {"collided", collided},
+                    {"state", state_name(c.state)},
+                    {"nearest_index", c.nearest},
+                    {"nearest_point", to_json(c.contact)},
+                    {"distance", c.distance},
+                    {"side_after", c.side_after},
+                    {"pushed_out", c.pushed_out},
+                    {"probe_after", to_json(c.probe_after)}};
+      if (collided) {
+        entry["source"] = to_json(c.source);
+        entry["source_rule"] = rule_name(c.source_rule);
+        entry["force"] = to_json(c.force);
+        entry["weights"] = to_json(c.weights);
+        entry["effective_force"] = to_json(c.effective_force);
+        entry["boundary_points"] = c.boundary_points;
+        entry["residual"] = r.solve.residual;
+        entry["relative_residual"] = r.solve.relative_residual;
+        entry["condition"] = solve["condition"];
+        if (c.has_traction) {
+          entry["traction"] = to_json(c.traction);
+          entry["traction_resultant"] = to_json(c.traction_resultant);
+        }
+      }
+      contacts.push_back(entry);
+    }
+    const auto& k = s.kernel;
+    return {{"model", model_path_},
+            {"points", model.size()},
+            {"normals", normals_source},
+            {"out", out_path_.empty() ? json(nullptr) : json(out_path_)},
+            {"kernel", k.kind == deform::KernelKind::kKelvin ? "kelvin" : "regularized"},
+            {"eps_reg", k.regularization},
+            {"material", {{"G", k.material.shear_modulus}, {"nu", k.material.poisson_ratio}, {"E", k.material.young_modulus()}}},
+            {"form", form_},
+            {"mode", s.contact.mode == deform::ContactMode::kPush ? "push" : "pull"},
+            {"precision", use_double_ ? "double" : "float"},
+            {"mean_spacing", spacing},
+            {"bc_radius", s.contact.bc_radius},
+            {"delta_d", s.contact.min_source_distance},
+            {"delta_r", s.contact.guard_distance},
+            {"region", s.region.kind == deform::RegionSettings::Kind::kRadius ? json(s.region.radius) : json("global")},
+            {"collisions", r.collisions},
+            {"contacts", contacts},
+            {"solve", solve},
+            {"points_moved", r.region_points},
+            {"border_points", r.border_points},
+            {"displacement_conditions", r.displacement_conditions},
+            {"max_displacement", r.max_displacement},
+            {"max_contact_displacement", r.max_contact_displacement},
+            {"max_border_displacement", r.max_border_displacement}};
+  }
+
+  void print_summary(const deform::PointModel& model, const deform::DeformSettings& s,
+                     const std::string& normals_source, const deform::FrameReport& r, double frame_ms) const {
+    std::printf("model    %s: %zu points, normals %s\n", model_path_.c_str(), model.size(), normals_source.c_str());
+    std::printf("settings %s kernel, G %.4g, nu %.4g, %s form, %s, eps %.4g, delta_d %.4g, delta_r %.4g, region %s\n",
+                kernel_.c_str(), s.kernel.material.shear_modulus, s.kernel.material.poisson_ratio, form_.c_str(),
+                s.contact.mode == deform::ContactMode::kPush ? "push" : "pull", s.contact.bc_radius,
+                s.contact.min_source_distance, s.contact.guard_distance,
+                region_option_->count() ? std::to_string(region_radius_).c_str() : "global");
+    for (std::size_t i = 0; i < contacts_.size(); ++i) {
+      const deform::ContactReport& c = r.contacts[i];
+      std::printf("contact  %zu: %s, nearest #%u %s at %.4g", i, state_name(c.state), c.nearest,
+                  format(c.contact).c_str(), c.distance);
+      if (c.state == deform::ProbeState::kCollided) {
+        std::printf(", source %s (%s), F %s, effective force %s, %zu bc points", format(c.source).c_str(),
+                    rule_name(c.source_rule), format(c.force).c_str(), format(c.effective_force).c_str(),
+                    c.boundary_points);
+      }
+      if (c.pushed_out) std::printf(", pushed out to %s", format(c.probe_after).c_str());
+      std::printf("\n");
+    }
+    if (r.collisions > 0) {
+      std::printf("solve    %zu rows x %zu unknowns, rank %zu, residual %.3g (relative %.3g), condition %.3g "
+                  "(%.3g over the kept rank)%s\n",
+                  r.solve.rows, r.solve.unknowns, r.solve.rank, r.solve.residual, r.solve.relative_residual,
+                  r.solve.condition, r.solve.effective_condition, r.solve.damped ? ", damped" : "");
+    }
+    std::printf("result   %zu collision(s), %zu points moved, max displacement %.4g, band/contact %.3g, frame %.3f ms\n",
+                r.collisions, r.region_points, r.max_displacement,
+                r.max_contact_displacement > 0 ? r.max_border_displacement / r.max_contact_displacement : 0.0, frame_ms);
+    if (!out_path_.empty()) std::printf("wrote    %s\n", out_path_.c_str());
+  }
+
+  CLI::App* sub_ = nullptr;
+  std::string model_path_, out_path_, json_path_, kernel_, form_, mode_, reference_text_, encoding_;
+  std::vector<std::string> contacts_;
+  deform::Material material_;
+  double eps_reg_ = 0.0, bc_radius_ = 0.0, delta_d_ = 0.0, delta_r_ = 0.0, region_radius_ = 0.0;
+  double border_weight_ = 1.0;
+  bool use_double_ = false;
+  CLI::Option *eps_reg_option_ = nullptr, *bc_option_ = nullptr, *dd_option_ = nullptr, *dr_option_ = nullptr,
+              *region_option_ = nullptr, *reference_option_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_deform_command(CLI::App& app) { return std::make_unique<DeformCommand>(app); }
+
+}  // namespace sculpt::tools
