@@ -52,6 +52,26 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
 void Deformer::rebuild_index() {
   index_.rebuild(model_);
   drift_ = 0.0;
+  index_holds_base_ = false;
+}
+
+void Deformer::restore(const PointModel& base) {
+  if (base.size() != model_.size() || base.has_normals() != model_.has_normals()) {
+    throw std::invalid_argument("deform: restore needs the base model the deformer was built on");
+  }
+  std::copy(base.x.begin(), base.x.end(), model_.x.begin());
+  std::copy(base.y.begin(), base.y.end(), model_.y.begin());
+  std::copy(base.z.begin(), base.z.end(), model_.z.begin());
+  std::copy(base.nx.begin(), base.nx.end(), model_.nx.begin());
+  std::copy(base.ny.begin(), base.ny.end(), model_.ny.begin());
+  std::copy(base.nz.begin(), base.nz.end(), model_.nz.begin());
+  if (index_holds_base_) {
+    drift_ = 0.0;
+  } else {
+    index_.rebuild(model_);
+    drift_ = 0.0;
+    index_holds_base_ = true;
+  }
 }
 
 std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displacement, bool record) {

@@ -77,7 +77,10 @@ Separation separation(const KernelCoefficients& k, const Vec3& source, const Vec
 }  // namespace
 
 Mat3 displacement_matrix(const Kernel& kernel, const Vec3& source, const Vec3& point) {
-  const KernelCoefficients k = coefficients(kernel);
+  return displacement_matrix(coefficients(kernel), source, point);
+}
+
+Mat3 displacement_matrix(const KernelCoefficients& k, const Vec3& source, const Vec3& point) {
   const Separation s = separation(k, source, point);
   const double diag = k.alpha * s.inv + k.beta * s.inv3;
   Mat3 u;

@@ -74,6 +74,7 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
   const double young = kernel.material.young_modulus();
   const double traction_weight = std::sqrt(options_.traction_eps / (young * young));
   const bool scaled = options_.form == WeightForm::kScale;
+  const KernelCoefficients coeffs = coefficients(kernel);
 
   // Builds the rows of condition `index` (displacements first, then tractions), weighted.
   auto fill = [&](std::size_t index, RowBlock& block) {
@@ -85,7 +86,7 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
       Mat3 m;  // m(c, k): component c of the row quantity per unit force component k
       if (is_displacement) {
         const DisplacementCondition& d = displacements[index];
-        m = displacement_matrix(kernel, sources[s].source, d.point);
+        m = displacement_matrix(coeffs, sources[s].source, d.point);
         w = d.weight;
         target = d.displacement;
       } else {
@@ -105,35 +106,34 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
   };
 
   const std::size_t conditions = displacements.size() + tractions.size();
-  // Column norms first: equilibrating the columns makes the rank test and the condition
-  // number independent of units (forces of 1e7 against weights of 1).
-  std::array<double, kMaxUnknowns> column_norm{};
-  double rhs_norm = 0.0;
-  RowBlock block;
-  for (std::size_t i = 0; i < conditions; ++i) {
-    fill(i, block);
-    for (const auto& row : block.rows) {
-      for (int j = 0; j < unknowns; ++j) column_norm[j] += row[j] * row[j];
-      rhs_norm += row[unknowns] * row[unknowns];
-    }
-  }
-  for (int j = 0; j < unknowns; ++j) column_norm[j] = std::sqrt(column_norm[j]);
-  rhs_norm = std::sqrt(rhs_norm);
-
+  // One pass builds every row once and rotates it into R. Column norms of A equal those of R
+  // (Q is orthogonal), so equilibrating R's columns afterwards is the same as equilibrating A's
+  // first: the rank test and the condition number then do not depend on units (forces of 1e7
+  // against weights of 1).
   StreamingQr qr(unknowns);
+  RowBlock block;
+  double rhs_norm = 0.0;
   for (std::size_t i = 0; i < conditions; ++i) {
     fill(i, block);
     for (auto& row : block.rows) {
-      for (int j = 0; j < unknowns; ++j) row[j] = column_norm[j] > 0.0 ? row[j] / column_norm[j] : 0.0;
+      rhs_norm += row[unknowns] * row[unknowns];
       qr.add_row(row);
     }
+  }
+  rhs_norm = std::sqrt(rhs_norm);
+  std::array<double, kMaxUnknowns> column_norm{};
+  for (int j = 0; j < unknowns; ++j) {
+    for (int i = 0; i <= j; ++i) column_norm[j] += qr.at(i, j) * qr.at(i, j);
+    column_norm[j] = std::sqrt(column_norm[j]);
   }
 
   SmallMatrix r(unknowns, unknowns);
   SmallVector qtb(unknowns);
   for (int i = 0; i < unknowns; ++i) {
     qtb(i) = qr.at(i, unknowns);
-    for (int j = 0; j < unknowns; ++j) r(i, j) = j >= i ? qr.at(i, j) : 0.0;
+    for (int j = 0; j < unknowns; ++j) {
+      r(i, j) = j >= i && column_norm[j] > 0.0 ? qr.at(i, j) / column_norm[j] : 0.0;
+    }
   }
   const Eigen::JacobiSVD<SmallMatrix> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const SmallVector sigma = svd.singularValues();
@@ -169,10 +169,13 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
     }
   }
 
-  // The residual is evaluated on the rows themselves, so it is true for truncated and damped
-  // solutions too (the QR's last diagonal is only the residual of the full-rank fit).
-  double residual2 = 0.0;
-  for (std::size_t i = 0; i < conditions; ++i) {
+  // With every direction kept and no damping, the augmented factor's last diagonal is the
+  // residual of the least-squares fit. Otherwise it is evaluated on the rows themselves, a
+  // second pass, so it is true for truncated and damped solutions too.
+  double residual2 = qr.at(unknowns, unknowns) * qr.at(unknowns, unknowns);
+  const bool exact_fit = rank == static_cast<std::size_t>(unknowns) && !report.damped;
+  if (!exact_fit) residual2 = 0.0;
+  for (std::size_t i = 0; i < conditions && !exact_fit; ++i) {
     fill(i, block);
     for (const auto& row : block.rows) {
       double ax = -row[unknowns];

@@ -350,6 +350,52 @@ TEST(Deformer, TractionAheadOfTheSourceIsCompressiveAndLinearInDepth) {
   }
 }
 
+// An explicit index set: exactly those points move, and its rim (points with an outside
+// neighbour within the band width) is the pinned band.
+TEST(Deformer, IndexSetRegionMovesOnlyItsPoints) {
+  const PointModel original = make_sphere();
+  PointModel model = original;
+  DeformSettings s = sphere_settings();
+  s.region.kind = RegionSettings::Kind::kIndices;
+  for (std::uint32_t i = 0; i < original.size(); ++i)
+    if (original.z[i] > 0.6f) s.region.indices.push_back(i);
+  Deformer deformer(model, s);
+  const Vec3 d = lattice_direction(model, {0.0, 0.0, 1.0});
+  const ProbeMotion push{d * 1.1, d * 0.95, std::nullopt};
+  const FrameReport& r = deformer.deform({&push, 1});
+  ASSERT_EQ(r.collisions, 1u);
+  EXPECT_EQ(r.region_points, s.region.indices.size());
+  EXPECT_GT(r.border_points, 0u);
+  for (std::size_t i = 0; i < original.size(); ++i) {
+    const bool member = original.z[i] > 0.6f;
+    const bool moved = original.x[i] != model.x[i] || original.y[i] != model.y[i] || original.z[i] != model.z[i];
+    if (!member) {
+      EXPECT_FALSE(moved) << i;
+    }
+  }
+  // The band lies on the rim: every band point is within one band width of z = 0.6's circle.
+  for (std::uint32_t i : deformer.region_border())
+    EXPECT_LT(original.z[i], 0.6f + 1.01f * static_cast<float>(s.contact.bc_radius) + 0.02f) << i;
+}
+
+TEST(Deformer, RestoreUndoesEveryFrame) {
+  const PointModel original = make_sphere();
+  PointModel model = original;
+  Deformer deformer(model, sphere_settings());
+  const ProbeMotion push{pole_probe(1.1), pole_probe(0.9), std::nullopt};
+  deformer.deform({&push, 1});
+  ASSERT_GT(deformer.drift(), 0.0);
+  deformer.restore(original);
+  EXPECT_EQ(model.x, original.x);
+  EXPECT_EQ(model.nz, original.nz);
+  EXPECT_EQ(deformer.drift(), 0.0);
+  deformer.rebuild_index();
+  deformer.deform({&push, 1});
+  deformer.restore(original);
+  EXPECT_EQ(model.z, original.z);
+  EXPECT_EQ(deformer.drift(), 0.0);
+}
+
 TEST(Deformer, BadSettingsAreRejectedAtConstruction) {
   PointModel sphere = make_sphere();
   DeformSettings s = sphere_settings();

@@ -82,7 +82,13 @@ class Deformer {
   double drift() const { return drift_; }
   /// Rebuilds the k-d tree on the current positions (allocates: keep it off the real-time path).
   void rebuild_index();
+  /// Undo to `base`, the model as it was when the deformer was built: copies its positions and
+  /// normals back. The drift returns to zero when the index still holds that base; otherwise
+  /// the index is rebuilt. Throws std::invalid_argument when `base` has another size or layout.
+  void restore(const PointModel& base);
   const PointIndex& index() const { return index_; }
+  /// The pinned band of the last frame's region.
+  std::span<const std::uint32_t> region_border() const { return region_.border(); }
   const PointModel& model() const { return model_; }
   const DeformSettings& settings() const { return settings_; }
 
@@ -96,6 +102,7 @@ class Deformer {
   DeformSettings settings_;
   PointIndex index_;
   double drift_ = 0.0;
+  bool index_holds_base_ = true;  // the index snapshot is the model as constructed
   double point_area_ = 0.0;
   Region region_;
   WeightSolver solver_;

@@ -55,6 +55,8 @@ struct Mat3 {
 
 /// U_kl(P, Q): displacement at Q in direction l per unit force at P in direction k. Symmetric.
 Mat3 displacement_matrix(const Kernel& kernel, const Vec3& source, const Vec3& point);
+/// The same from precomputed coefficients, for loops over many points.
+Mat3 displacement_matrix(const KernelCoefficients& k, const Vec3& source, const Vec3& point);
 /// u(Q) = sum_k f_k U_kl(P, Q).
 Vec3 displacement(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point);
 /// grad(l, m) = d u_l / d Q_m.
