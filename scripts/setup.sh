@@ -19,7 +19,7 @@ PACKAGES=(
   libtomlplusplus-dev libcli11-dev libspdlog-dev libstb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   can-utils
-  libcgal-demo
+  libcgal-demo zlib1g-dev
   python3
 )
 

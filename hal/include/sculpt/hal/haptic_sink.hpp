@@ -1,0 +1,32 @@
+#pragma once
+// Where the contact forces go for haptic feedback (lcm, serial, can).
+
+#include <array>
+#include <cstdint>
+
+#include "sculpt/hal/glove_sample.hpp"
+
+namespace sculpt::hal {
+
+/// One hand's fingertip forces for one tick, in the glove frame (newtons by convention; the
+/// scene's registration scale maps the model's force units).
+struct HapticCommand {
+  std::uint8_t hand = 0;
+  std::uint32_t tick = 0;
+  std::uint8_t active_mask = 0;  ///< bit f set: finger f is in contact
+  std::array<Point3f, kFingers> force{};
+};
+
+/// Set-up may throw; send() runs in the loop: it only queues for the sink's I/O thread,
+/// noexcept and allocation-free, and returns false when the queue was full (counted).
+class HapticSink {
+ public:
+  virtual ~HapticSink() = default;
+  virtual void start() = 0;
+  virtual void stop() = 0;
+  virtual bool send(const HapticCommand& command) noexcept = 0;
+  virtual std::uint64_t dropped() const noexcept = 0;
+  virtual const char* name() const noexcept = 0;
+};
+
+}  // namespace sculpt::hal
