@@ -1,0 +1,75 @@
+#pragma once
+// A serial device (or pseudo-terminal) opened raw and non-blocking, closed on destruction.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace sculpt::hal {
+
+/// Outcome of one read or write on a SerialPort.
+enum class IoStatus : std::uint8_t {
+  kOk,          ///< some bytes moved (see the count)
+  kWouldBlock,  ///< nothing to read, or no room to write, right now
+  kGone,        ///< the device disappeared (hang-up, EIO, unplugged): close and reopen
+};
+
+/// Result of SerialPort::read and SerialPort::write.
+struct IoResult {
+  IoStatus status = IoStatus::kWouldBlock;
+  std::size_t bytes = 0;
+  int error = 0;  ///< errno for kGone, when there was one
+};
+
+/// RAII owner of a serial file descriptor: opened O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC,
+/// termios raw (cfmakeraw, CLOCAL | CREAD, VMIN = 0, VTIME = 0) at a standard baud rate.
+/// Move-only. Not thread-safe, except that read and write may run on different threads.
+class SerialPort {
+ public:
+  /// A closed port.
+  SerialPort() noexcept = default;
+  /// Opens `path` at `baud`. Throws as open() does.
+  SerialPort(const std::string& path, int baud);
+  ~SerialPort();
+  SerialPort(SerialPort&& other) noexcept;
+  SerialPort& operator=(SerialPort&& other) noexcept;
+  SerialPort(const SerialPort&) = delete;
+  SerialPort& operator=(const SerialPort&) = delete;
+
+  /// Closes any open device, then opens `path` at `baud`.
+  /// @throw std::invalid_argument when `baud` is not a standard rate (see is_standard_baud)
+  /// @throw std::runtime_error "serial <path>: <step>: <strerror>" when the device cannot be
+  ///        opened or configured
+  void open(const std::string& path, int baud);
+
+  /// Like open(), but reports an OS failure by returning false and leaving the message in
+  /// `error` (for reconnect loops, where a missing device is the normal case).
+  /// @throw std::invalid_argument when `baud` is not a standard rate
+  bool try_open(const std::string& path, int baud, std::string& error);
+
+  /// Closes the device. Idempotent.
+  void close() noexcept;
+
+  bool is_open() const noexcept { return fd_ >= 0; }
+  /// The file descriptor, for poll(); -1 when closed.
+  int fd() const noexcept { return fd_; }
+  /// The path given to the last open.
+  const std::string& path() const noexcept { return path_; }
+
+  /// Reads what is available, up to out.size() bytes; never blocks. A hung-up terminal reads
+  /// as kGone; with VMIN = VTIME = 0 an idle one reads 0 bytes, reported as kWouldBlock, so a
+  /// caller tells the two apart by calling only after poll() reported POLLIN or POLLHUP.
+  IoResult read(std::span<std::uint8_t> out) noexcept;
+  /// Writes as much of `bytes` as the device takes now; never blocks.
+  IoResult write(std::span<const std::uint8_t> bytes) noexcept;
+
+  /// True for the rates the termios table knows (50 .. 4000000).
+  static bool is_standard_baud(int baud) noexcept;
+
+ private:
+  int fd_ = -1;
+  std::string path_;
+};
+
+}  // namespace sculpt::hal

@@ -1,0 +1,208 @@
+#include "sculpt/hal/serial_haptic_sink.hpp"
+
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+
+namespace sculpt::hal {
+namespace {
+
+constexpr int kPollTimeoutMs = 100;
+
+std::uint64_t monotonic_us() noexcept {
+  timespec ts{};
+  ::clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000u +
+         static_cast<std::uint64_t>(ts.tv_nsec) / 1000u;
+}
+
+}  // namespace
+
+SerialHapticSink::SerialHapticSink(const SerialConfig& config, std::size_t queue_capacity)
+    : config_(config), queue_(queue_capacity == 0 ? 2 : queue_capacity) {
+  if (config_.device.empty()) throw std::invalid_argument("serial haptic sink: device path is empty");
+  if (!SerialPort::is_standard_baud(config_.baud)) {
+    throw std::invalid_argument("serial haptic sink " + config_.device + ": baud " +
+                                std::to_string(config_.baud) +
+                                " is not a standard rate (e.g. 115200, 921600, 1000000)");
+  }
+  if (!std::isfinite(config_.reconnect_interval_ms) || config_.reconnect_interval_ms <= 0.0) {
+    throw std::invalid_argument("serial haptic sink " + config_.device +
+                                ": reconnect_interval_ms must be positive and finite");
+  }
+  if (queue_capacity == 0) {
+    throw std::invalid_argument("serial haptic sink " + config_.device +
+                                ": queue_capacity must be > 0");
+  }
+  wake_fd_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+  if (wake_fd_ < 0) {
+    throw std::runtime_error("serial haptic sink " + config_.device +
+                             ": eventfd: " + std::strerror(errno));
+  }
+}
+
+SerialHapticSink::~SerialHapticSink() {
+  stop();
+  ::close(wake_fd_);
+}
+
+void SerialHapticSink::start() {
+  if (thread_.joinable()) {
+    throw std::runtime_error("serial haptic sink " + config_.device + ": already started");
+  }
+  struct stat st{};
+  if (::stat(config_.device.c_str(), &st) == 0 && !S_ISCHR(st.st_mode)) {
+    throw std::runtime_error("serial haptic sink " + config_.device +
+                             ": exists but is not a character device (a serial port or pty)");
+  }
+  stop_requested_.store(false, std::memory_order_relaxed);
+  sequence_ = 0;
+  try_connect();
+  try {
+    thread_ = std::thread([this] { run(); });
+  } catch (const std::system_error& e) {
+    port_.close();
+    connected_.store(false, std::memory_order_release);
+    throw std::runtime_error("serial haptic sink " + config_.device +
+                             ": cannot start I/O thread: " + e.what());
+  }
+}
+
+void SerialHapticSink::stop() {
+  if (thread_.joinable()) {
+    stop_requested_.store(true, std::memory_order_release);
+    const std::uint64_t one = 1;
+    [[maybe_unused]] const ssize_t n = ::write(wake_fd_, &one, sizeof one);
+    thread_.join();
+  }
+  port_.close();
+  connected_.store(false, std::memory_order_release);
+}
+
+bool SerialHapticSink::send(const HapticCommand& command) noexcept {
+  if (!queue_.push(command)) {
+    dropped_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  // Never blocks: the eventfd is non-blocking, and a saturated counter still means "wake".
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t n = ::write(wake_fd_, &one, sizeof one);
+  return true;
+}
+
+std::uint64_t SerialHapticSink::dropped() const noexcept {
+  return dropped_.load(std::memory_order_relaxed);
+}
+
+std::uint64_t SerialHapticSink::frames_written() const noexcept {
+  return written_.load(std::memory_order_relaxed);
+}
+
+bool SerialHapticSink::connected() const noexcept {
+  return connected_.load(std::memory_order_acquire);
+}
+
+bool SerialHapticSink::try_connect() noexcept {
+  try {
+    std::string error;
+    if (!port_.try_open(config_.device, config_.baud, error)) return false;
+  } catch (...) {
+    port_.close();
+    return false;
+  }
+  connected_.store(true, std::memory_order_release);
+  return true;
+}
+
+bool SerialHapticSink::write_frame(std::span<const std::uint8_t> frame) noexcept {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(kWriteTimeoutMs);
+  while (!frame.empty()) {
+    const IoResult r = port_.write(frame);
+    if (r.status == IoStatus::kGone) {
+      port_.close();
+      connected_.store(false, std::memory_order_release);
+      return false;
+    }
+    if (r.status == IoStatus::kOk) {
+      frame = frame.subspan(r.bytes);
+      continue;
+    }
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return false;
+    pollfd out{port_.fd(), POLLOUT, 0};
+    ::poll(&out, 1, static_cast<int>(left.count()));
+    if ((out.revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
+      port_.close();
+      connected_.store(false, std::memory_order_release);
+      return false;
+    }
+  }
+  return true;
+}
+
+void SerialHapticSink::drain_queue() noexcept {
+  HapticCommand command;
+  while (queue_.pop(command)) {
+    if (!port_.is_open()) {
+      dropped_.fetch_add(1, std::memory_order_relaxed);
+      continue;
+    }
+    const std::size_t n = encode_haptic_frame(command, sequence_++, monotonic_us(), frame_);
+    if (write_frame(std::span<const std::uint8_t>(frame_.data(), n))) {
+      written_.fetch_add(1, std::memory_order_relaxed);
+    } else {
+      dropped_.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
+void SerialHapticSink::run() noexcept {
+  using Clock = std::chrono::steady_clock;
+  const auto interval = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double, std::milli>(config_.reconnect_interval_ms));
+  auto next_attempt = Clock::now() + interval;
+  while (!stop_requested_.load(std::memory_order_acquire)) {
+    int timeout_ms = kPollTimeoutMs;
+    if (!port_.is_open()) {
+      const auto now = Clock::now();
+      if (now >= next_attempt) {
+        if (!try_connect()) next_attempt = now + interval;
+      }
+      if (!port_.is_open()) {
+        const auto wait = std::chrono::ceil<std::chrono::milliseconds>(next_attempt - Clock::now());
+        timeout_ms = static_cast<int>(std::clamp<std::int64_t>(wait.count(), 1, kPollTimeoutMs));
+      }
+    }
+    // Events 0 on the device: poll still reports POLLHUP / POLLERR, which is all we want from
+    // it; the writer never reads.
+    pollfd fds[2] = {{wake_fd_, POLLIN, 0}, {port_.fd(), 0, 0}};
+    const int ready = ::poll(fds, port_.is_open() ? 2 : 1, timeout_ms);
+    if (ready < 0 && errno != EINTR) continue;
+    if (port_.is_open() && (fds[1].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
+      port_.close();
+      connected_.store(false, std::memory_order_release);
+      next_attempt = Clock::now() + interval;
+    }
+    if ((fds[0].revents & POLLIN) != 0) {
+      std::uint64_t value = 0;
+      [[maybe_unused]] const ssize_t n = ::read(wake_fd_, &value, sizeof value);
+    }
+    drain_queue();
+    if (!port_.is_open() && connected_.load(std::memory_order_relaxed)) {
+      connected_.store(false, std::memory_order_release);
+    }
+  }
+}
+
+}  // namespace sculpt::hal

@@ -1,0 +1,143 @@
+#include "sculpt/hal/serial_port.hpp"
+
+#include <fcntl.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <utility>
+
+namespace sculpt::hal {
+namespace {
+
+struct BaudEntry {
+  int rate;
+  speed_t code;
+};
+
+// termios wants the Bxxx constants, not numbers; only these rates exist for cfsetspeed.
+constexpr std::array<BaudEntry, 30> kBaudTable = {{
+    {50, B50},         {75, B75},         {110, B110},       {134, B134},
+    {150, B150},       {200, B200},       {300, B300},       {600, B600},
+    {1200, B1200},     {1800, B1800},     {2400, B2400},     {4800, B4800},
+    {9600, B9600},     {19200, B19200},   {38400, B38400},   {57600, B57600},
+    {115200, B115200}, {230400, B230400}, {460800, B460800}, {500000, B500000},
+    {576000, B576000}, {921600, B921600}, {1000000, B1000000}, {1152000, B1152000},
+    {1500000, B1500000}, {2000000, B2000000}, {2500000, B2500000}, {3000000, B3000000},
+    {3500000, B3500000}, {4000000, B4000000},
+}};
+
+speed_t baud_code(int baud) {
+  for (const BaudEntry& e : kBaudTable) {
+    if (e.rate == baud) return e.code;
+  }
+  throw std::invalid_argument("serial baud " + std::to_string(baud) +
+                              " is not a standard rate (e.g. 115200, 921600, 1000000)");
+}
+
+std::string os_error(const std::string& path, const char* step, int err) {
+  return "serial " + path + ": " + step + ": " + std::strerror(err);
+}
+
+}  // namespace
+
+SerialPort::SerialPort(const std::string& path, int baud) { open(path, baud); }
+
+SerialPort::~SerialPort() { close(); }
+
+SerialPort::SerialPort(SerialPort&& other) noexcept
+    : fd_(std::exchange(other.fd_, -1)), path_(std::move(other.path_)) {}
+
+SerialPort& SerialPort::operator=(SerialPort&& other) noexcept {
+  if (this != &other) {
+    close();
+    fd_ = std::exchange(other.fd_, -1);
+    path_ = std::move(other.path_);
+  }
+  return *this;
+}
+
+bool SerialPort::is_standard_baud(int baud) noexcept {
+  for (const BaudEntry& e : kBaudTable) {
+    if (e.rate == baud) return true;
+  }
+  return false;
+}
+
+void SerialPort::open(const std::string& path, int baud) {
+  std::string error;
+  if (!try_open(path, baud, error)) throw std::runtime_error(error);
+}
+
+bool SerialPort::try_open(const std::string& path, int baud, std::string& error) {
+  const speed_t speed = baud_code(baud);
+  close();
+  path_ = path;
+  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    error = os_error(path, "open", errno);
+    return false;
+  }
+  termios tio{};
+  const char* step = nullptr;
+  if (::tcgetattr(fd, &tio) != 0) {
+    step = "tcgetattr (not a terminal?)";
+  } else {
+    ::cfmakeraw(&tio);
+    tio.c_cflag |= CLOCAL | CREAD;
+    // Reads return at once with whatever is there; the caller waits in poll(), not in read().
+    tio.c_cc[VMIN] = 0;
+    tio.c_cc[VTIME] = 0;
+    if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0) {
+      step = "cfsetspeed";
+    } else if (::tcsetattr(fd, TCSANOW, &tio) != 0) {
+      step = "tcsetattr";
+    }
+  }
+  if (step != nullptr) {
+    const int err = errno;
+    ::close(fd);
+    error = os_error(path, step, err);
+    return false;
+  }
+  fd_ = fd;
+  return true;
+}
+
+void SerialPort::close() noexcept {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+IoResult SerialPort::read(std::span<std::uint8_t> out) noexcept {
+  if (fd_ < 0) return {IoStatus::kGone, 0, EBADF};
+  for (;;) {
+    const ssize_t n = ::read(fd_, out.data(), out.size());
+    if (n > 0) return {IoStatus::kOk, static_cast<std::size_t>(n), 0};
+    if (n == 0) return {IoStatus::kWouldBlock, 0, 0};
+    if (errno == EINTR) continue;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return {IoStatus::kWouldBlock, 0, 0};
+    return {IoStatus::kGone, 0, errno};
+  }
+}
+
+IoResult SerialPort::write(std::span<const std::uint8_t> bytes) noexcept {
+  if (fd_ < 0) return {IoStatus::kGone, 0, EBADF};
+  for (;;) {
+    const ssize_t n = ::write(fd_, bytes.data(), bytes.size());
+    if (n >= 0) {
+      return {n > 0 || bytes.empty() ? IoStatus::kOk : IoStatus::kWouldBlock,
+              static_cast<std::size_t>(n), 0};
+    }
+    if (errno == EINTR) continue;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return {IoStatus::kWouldBlock, 0, 0};
+    return {IoStatus::kGone, 0, errno};
+  }
+}
+
+}  // namespace sculpt::hal

@@ -1,0 +1,316 @@
+// The glove side (SerialFrameWriter) and the host side (SerialGloveSource, SerialHapticSink)
+// end to end, in the arrangement of the hardware-in-the-loop test: two pseudo-terminal pairs,
+// the writer on one slave, the host on the other, and a relay copying between the masters in
+// both directions as the cable (or a USB-serial pair) would.
+
+#include "sculpt/hal/serial_frame_writer.hpp"
+
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <pty.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "sculpt/hal/serial_glove_source.hpp"
+#include "sculpt/hal/serial_haptic_sink.hpp"
+
+namespace sculpt::hal {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+class Pty {
+ public:
+  Pty() {
+    if (::openpty(&master_, &slave_, nullptr, nullptr, nullptr) != 0) {
+      throw std::runtime_error(std::string("openpty: ") + std::strerror(errno));
+    }
+    termios tio{};
+    ::tcgetattr(slave_, &tio);
+    ::cfmakeraw(&tio);
+    ::tcsetattr(slave_, TCSANOW, &tio);
+    slave_path_ = ::ttyname(slave_);
+  }
+  ~Pty() { close(); }
+  Pty(const Pty&) = delete;
+  Pty& operator=(const Pty&) = delete;
+  void close() {
+    if (master_ >= 0) ::close(master_);
+    if (slave_ >= 0) ::close(slave_);
+    master_ = slave_ = -1;
+  }
+  int master() const { return master_; }
+  const std::string& slave_path() const { return slave_path_; }
+
+ private:
+  int master_ = -1;
+  int slave_ = -1;
+  std::string slave_path_;
+};
+
+// Copies bytes between two masters in both directions until destroyed: the wire.
+class Relay {
+ public:
+  Relay(int a, int b) : thread_([this, a, b] { run(a, b); }) {}
+  ~Relay() {
+    stop_ = true;
+    thread_.join();
+  }
+  std::uint64_t bytes() const { return bytes_; }
+
+ private:
+  void run(int a, int b) {
+    std::uint8_t buffer[4096];
+    while (!stop_) {
+      pollfd fds[2] = {{a, POLLIN, 0}, {b, POLLIN, 0}};
+      if (::poll(fds, 2, 10) <= 0) continue;
+      for (int i = 0; i < 2; ++i) {
+        if ((fds[i].revents & POLLIN) == 0) continue;
+        const ssize_t n = ::read(fds[i].fd, buffer, sizeof buffer);
+        if (n <= 0) continue;
+        const int to = i == 0 ? b : a;
+        for (ssize_t done = 0; done < n;) {
+          const ssize_t w = ::write(to, buffer + done, static_cast<std::size_t>(n - done));
+          if (w <= 0) break;
+          done += w;
+        }
+        bytes_ += static_cast<std::uint64_t>(n);
+      }
+    }
+  }
+
+  std::atomic<bool> stop_{false};
+  std::atomic<std::uint64_t> bytes_{0};
+  std::thread thread_;
+};
+
+bool wait_for(const std::function<bool()>& done, std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return done();
+}
+
+SerialConfig config_for(const std::string& device) {
+  SerialConfig c;
+  c.device = device;
+  c.reconnect_interval_ms = 20.0;
+  return c;
+}
+
+GloveSample sample(std::uint32_t i) {
+  GloveSample s;
+  s.hand = static_cast<std::uint8_t>(i % 2);
+  s.sequence = i / 2;  // per hand, and the hands alternate
+  s.device_time_us = 12'500ull * i;
+  if (i % 3 == 0) {
+    s.kind = SampleKind::kAngles;
+    for (std::size_t f = 0; f < kFingers; ++f) s.angles[f] = {0.1f * static_cast<float>(f), 0.2f, 0.3f, static_cast<float>(i)};
+    s.wrist.position = {1.0f, 2.0f, static_cast<float>(i)};
+    s.wrist.orientation = {0.0f, 1.0f, 0.0f, 0.0f};
+  } else {
+    s.kind = SampleKind::kPositions;
+    for (std::size_t j = 0; j < kJointPoints; ++j) s.joints[j] = {static_cast<float>(j), -static_cast<float>(i), 0.25f};
+  }
+  return s;
+}
+
+HapticCommand command(std::uint32_t tick) {
+  HapticCommand c;
+  c.hand = 1;
+  c.tick = tick;
+  c.active_mask = static_cast<std::uint8_t>(tick & 0x1F);
+  for (std::size_t f = 0; f < kFingers; ++f) c.force[f] = {0.5f * static_cast<float>(f), -1.0f, static_cast<float>(tick)};
+  return c;
+}
+
+TEST(SerialFrameWriter, ThrowsNamingTheDevice) {
+  try {
+    SerialFrameWriter writer("/nonexistent/ttyGLOVE");
+    FAIL() << "opened a device that does not exist";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("serial /nonexistent/ttyGLOVE: open:"), std::string::npos) << e.what();
+  }
+  Pty pty;
+  EXPECT_THROW(SerialFrameWriter(pty.slave_path(), 1234), std::invalid_argument);
+}
+
+TEST(SerialFrameWriter, EndToEndThroughTwoPtyPairsAndARelay) {
+  Pty glove_side;  // the writer's device
+  Pty host_side;   // the station's device
+  Relay wire(glove_side.master(), host_side.master());
+
+  SerialGloveSource source(config_for(host_side.slave_path()), 1024);
+  SerialHapticSink sink(config_for(host_side.slave_path()), 64);
+  source.start();
+  sink.start();
+  ASSERT_EQ(source.state(), SourceState::kConnected);
+  ASSERT_TRUE(sink.connected());
+  SerialFrameWriter writer(glove_side.slave_path());
+
+  constexpr std::uint32_t kSamples = 300;
+  for (std::uint32_t i = 0; i < kSamples; ++i) ASSERT_TRUE(writer.write_sample(sample(i))) << i;
+  ASSERT_TRUE(wait_for([&] { return source.counters().samples == kSamples; }))
+      << source.counters().samples << " of " << kSamples;
+  const SourceCounters c = source.counters();
+  EXPECT_EQ(c.crc_errors + c.framing_errors + c.sequence_gaps + c.overflows, 0u);
+
+  // Haptics back from the station to the glove.
+  constexpr std::uint32_t kCommands = 20;
+  for (std::uint32_t t = 0; t < kCommands; ++t) ASSERT_TRUE(sink.send(command(t)));
+  ASSERT_TRUE(wait_for([&] { return writer.haptic_frames_received() == kCommands; }))
+      << writer.haptic_frames_received();
+  ASSERT_TRUE(writer.last_haptic().has_value());
+  const HapticCommand& last = *writer.last_haptic();
+  const HapticCommand expected = command(kCommands - 1);
+  EXPECT_EQ(last.hand, expected.hand);
+  EXPECT_EQ(last.tick, expected.tick);
+  EXPECT_EQ(last.active_mask, expected.active_mask);
+  EXPECT_EQ(last.force, expected.force);
+  EXPECT_EQ(sink.frames_written(), kCommands);
+  EXPECT_EQ(sink.dropped(), 0u);
+  EXPECT_EQ(writer.input_counters().crc_errors + writer.input_counters().framing_errors, 0u);
+  // The haptic frames also pass the source's own line (it shares the device): ignored there.
+  EXPECT_EQ(source.counters().samples, kSamples);
+
+  sink.stop();
+  source.stop();
+}
+
+TEST(SerialFrameWriter, SamplesArriveIntactAndInOrder) {
+  Pty glove_side;
+  Pty host_side;
+  Relay wire(glove_side.master(), host_side.master());
+  SerialGloveSource source(config_for(host_side.slave_path()), 1024);
+  source.start();
+  SerialFrameWriter writer(glove_side.slave_path());
+  constexpr std::uint32_t kSamples = 120;
+  for (std::uint32_t i = 0; i < kSamples; ++i) ASSERT_TRUE(writer.write_sample(sample(i)));
+
+  std::vector<GloveSample> got;
+  std::vector<GloveSample> buffer(32);
+  ASSERT_TRUE(wait_for([&] {
+    const std::size_t n = source.poll(buffer);
+    got.insert(got.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(n));
+    return got.size() >= kSamples;
+  }));
+  ASSERT_EQ(got.size(), kSamples);
+  for (std::uint32_t i = 0; i < kSamples; ++i) {
+    const GloveSample want = sample(i);
+    ASSERT_EQ(got[i].sequence, i / 2);
+    EXPECT_EQ(got[i].hand, want.hand);
+    EXPECT_EQ(got[i].kind, want.kind);
+    EXPECT_EQ(got[i].device_time_us, want.device_time_us);
+    if (want.kind == SampleKind::kAngles) {
+      EXPECT_EQ(got[i].angles, want.angles);
+      EXPECT_EQ(got[i].wrist.position, want.wrist.position);
+      EXPECT_EQ(got[i].wrist.orientation, want.wrist.orientation);
+    } else {
+      EXPECT_EQ(got[i].joints, want.joints);
+    }
+  }
+}
+
+TEST(SerialFrameWriter, ReportsADeviceThatIsGoneAndReopensIt) {
+  char pattern[] = "/tmp/sculpt-writer-XXXXXX";
+  ASSERT_NE(::mkdtemp(pattern), nullptr);
+  const std::filesystem::path dir = pattern;
+  const std::string link = (dir / "glove").string();
+  auto first = std::make_unique<Pty>();
+  std::filesystem::create_symlink(first->slave_path(), link);
+
+  SerialFrameWriter writer(link);
+  ASSERT_TRUE(writer.write_sample(sample(0)));
+  first->close();
+  bool ok = true;
+  ASSERT_TRUE(wait_for([&] {
+    ok = writer.write_sample(sample(1));
+    return !ok;
+  }));
+  EXPECT_FALSE(writer.is_open());
+  EXPECT_FALSE(writer.write_sample(sample(2)));
+
+  std::filesystem::remove(link);
+  EXPECT_FALSE(writer.reopen());
+  EXPECT_NE(writer.last_error().find(link), std::string::npos) << writer.last_error();
+
+  Pty second;
+  std::filesystem::create_symlink(second.slave_path(), link);
+  ASSERT_TRUE(writer.reopen()) << writer.last_error();
+  ASSERT_TRUE(writer.write_sample(sample(3)));
+  // The bytes reach the new device's master.
+  pollfd in{second.master(), POLLIN, 0};
+  ASSERT_EQ(::poll(&in, 1, 5000), 1);
+  std::uint8_t buffer[1024];
+  EXPECT_GT(::read(second.master(), buffer, sizeof buffer), 0);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SerialHapticSink, DropsCommandsWhileTheDeviceIsAbsentAndWritesOnceItIsBack) {
+  char pattern[] = "/tmp/sculpt-sink-XXXXXX";
+  ASSERT_NE(::mkdtemp(pattern), nullptr);
+  const std::filesystem::path dir = pattern;
+  const std::string link = (dir / "glove").string();
+
+  SerialHapticSink sink(config_for(link), 16);
+  sink.start();
+  EXPECT_FALSE(sink.connected());
+  for (std::uint32_t t = 0; t < 5; ++t) EXPECT_TRUE(sink.send(command(t)));
+  ASSERT_TRUE(wait_for([&] { return sink.dropped() == 5; })) << sink.dropped();
+
+  Pty pty;
+  std::filesystem::create_symlink(pty.slave_path(), link);
+  ASSERT_TRUE(wait_for([&] { return sink.connected(); }));
+  ASSERT_TRUE(sink.send(command(99)));
+  ASSERT_TRUE(wait_for([&] { return sink.frames_written() == 1; }));
+
+  // The frame on the wire is a haptic frame with the sink's sequence and the command.
+  FrameDecoder decoder;
+  std::vector<DecodedFrame> frames;
+  ASSERT_TRUE(wait_for([&] {
+    pollfd in{pty.master(), POLLIN, 0};
+    if (::poll(&in, 1, 0) == 1) {
+      std::uint8_t buffer[512];
+      const ssize_t n = ::read(pty.master(), buffer, sizeof buffer);
+      if (n > 0) {
+        decoder.feed(std::span<const std::uint8_t>(buffer, static_cast<std::size_t>(n)),
+                     [&](const DecodedFrame& f) { frames.push_back(f); });
+      }
+    }
+    return !frames.empty();
+  }));
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].type, DecodedFrame::Type::kHaptic);
+  EXPECT_EQ(frames[0].sequence, 0u);  // the dropped commands were never framed
+  EXPECT_EQ(frames[0].haptic.tick, 99u);
+  EXPECT_EQ(frames[0].haptic.force, command(99).force);
+  EXPECT_GT(frames[0].device_time_us, 0u);
+  EXPECT_EQ(sink.dropped(), 5u);
+  sink.stop();
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SerialHapticSink, CountsAFullQueueAsDropped) {
+  // Not started: nothing drains the queue, so the third command does not fit (capacity 2).
+  Pty pty;
+  SerialHapticSink sink(config_for(pty.slave_path()), 2);
+  EXPECT_TRUE(sink.send(command(0)));
+  EXPECT_TRUE(sink.send(command(1)));
+  EXPECT_FALSE(sink.send(command(2)));
+  EXPECT_EQ(sink.dropped(), 1u);
+}
+
+}  // namespace
+}  // namespace sculpt::hal
