@@ -1,0 +1,51 @@
+#pragma once
+// Haptic commands to the glove over SocketCAN (docs/glove-can.md has the frame layout).
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <thread>
+
+#include "sculpt/hal/backend_config.hpp"
+#include "sculpt/hal/can_frame_codec.hpp"
+#include "sculpt/hal/haptic_sink.hpp"
+#include "sculpt/hal/spsc_queue.hpp"
+
+namespace sculpt::hal {
+
+/// Sends haptic commands as CAN frames (ids base + 0x80 + hand). send() only queues; the I/O
+/// thread wakes every millisecond, takes what is queued, keeps the newest command per hand
+/// (an older force is worthless once a newer one exists, and a classic bus cannot carry ten
+/// frames per hand per millisecond) and writes it. Commands superseded that way, refused by
+/// a full queue, or not written by the kernel count as dropped.
+class CanHapticSink final : public HapticSink {
+ public:
+  /// @throw std::invalid_argument as CanGloveSource's constructor.
+  CanHapticSink(const CanConfig& config, std::size_t queue_capacity = 256);
+  ~CanHapticSink() override;
+  CanHapticSink(const CanHapticSink&) = delete;
+  CanHapticSink& operator=(const CanHapticSink&) = delete;
+
+  /// @throw std::runtime_error as CanGloveSource::start.
+  void start() override;
+  void stop() override;
+  bool send(const HapticCommand& command) noexcept override;
+  std::uint64_t dropped() const noexcept override { return dropped_.load(std::memory_order_relaxed); }
+  const char* name() const noexcept override { return "socketcan"; }
+  /// Commands written to the bus in full.
+  std::uint64_t sent() const noexcept { return sent_.load(std::memory_order_relaxed); }
+
+ private:
+  void run() noexcept;
+  bool write_command(const HapticCommand& command) noexcept;
+
+  CanConfig config_;
+  SpscQueue<HapticCommand> queue_;
+  std::atomic<std::uint64_t> dropped_{0};
+  std::atomic<std::uint64_t> sent_{0};
+  std::atomic<bool> stop_requested_{false};
+  int socket_ = -1;
+  std::thread thread_;
+};
+
+}  // namespace sculpt::hal

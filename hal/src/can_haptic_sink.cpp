@@ -1,0 +1,107 @@
+#include "sculpt/hal/can_haptic_sink.hpp"
+
+#include <linux/can.h>
+#include <net/if.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "sculpt/hal/can_glove_source.hpp"
+
+namespace sculpt::hal {
+namespace {
+
+constexpr long kWakeNs = 1'000'000;
+
+CanConfig checked(const CanConfig& config) {
+  if (config.interface.empty()) throw std::invalid_argument("haptic.can.interface: empty");
+  if (config.interface.size() >= IFNAMSIZ)
+    throw std::invalid_argument("haptic.can.interface: '" + config.interface + "' is too long");
+  if (config.base_id > kCanMaxExtendedId - kCanIdSpan)
+    throw std::invalid_argument("haptic.can.base_id: " + std::to_string(config.base_id) +
+                                " leaves no room for the haptic ids below 0x1FFFFFFF");
+  return config;
+}
+
+}  // namespace
+
+CanHapticSink::CanHapticSink(const CanConfig& config, std::size_t queue_capacity)
+    : config_(checked(config)), queue_(queue_capacity) {}
+
+CanHapticSink::~CanHapticSink() { stop(); }
+
+void CanHapticSink::start() {
+  if (thread_.joinable()) return;
+  socket_ = open_can_socket(config_.interface, config_.fd, false);
+  stop_requested_.store(false, std::memory_order_relaxed);
+  thread_ = std::thread([this] { run(); });
+}
+
+void CanHapticSink::stop() {
+  stop_requested_.store(true, std::memory_order_release);
+  if (thread_.joinable()) thread_.join();
+  if (socket_ >= 0) ::close(socket_);
+  socket_ = -1;
+}
+
+bool CanHapticSink::send(const HapticCommand& command) noexcept {
+  if (command.hand < kHands && queue_.push(command)) return true;
+  dropped_.fetch_add(1, std::memory_order_relaxed);
+  return false;
+}
+
+bool CanHapticSink::write_command(const HapticCommand& command) noexcept {
+  std::array<CanFrame, kCanMaxHapticFrames> frames;
+  const std::size_t n = encode_haptic(command, config_.base_id, config_.fd, frames);
+  for (std::size_t i = 0; i < n; ++i) {
+    const CanFrame& f = frames[i];
+    canfd_frame raw{};
+    raw.can_id = f.id > kCanMaxStandardId ? (f.id | CAN_EFF_FLAG) : f.id;
+    raw.len = f.len;
+    std::memcpy(raw.data, f.data.data(), f.len);
+    const std::size_t mtu = f.fd ? CANFD_MTU : CAN_MTU;  // a classic can_frame is the FD one's prefix
+    ssize_t w;
+    do {
+      w = ::write(socket_, &raw, mtu);
+    } while (w < 0 && errno == EINTR);
+    // A half-sent command is broken on the wire; the receiver's decoder counts it.
+    if (w != static_cast<ssize_t>(mtu)) return false;
+  }
+  return n > 0;
+}
+
+void CanHapticSink::run() noexcept {
+  timespec next{};
+  clock_gettime(CLOCK_MONOTONIC, &next);
+  std::array<HapticCommand, kHands> newest{};
+  std::array<bool, kHands> have{};
+  while (!stop_requested_.load(std::memory_order_acquire)) {
+    next.tv_nsec += kWakeNs;
+    if (next.tv_nsec >= 1'000'000'000) {
+      next.tv_nsec -= 1'000'000'000;
+      ++next.tv_sec;
+    }
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr) == EINTR) {
+    }
+    HapticCommand c;
+    while (queue_.pop(c)) {
+      if (have[c.hand]) dropped_.fetch_add(1, std::memory_order_relaxed);
+      newest[c.hand] = c;
+      have[c.hand] = true;
+    }
+    for (std::size_t h = 0; h < kHands; ++h) {
+      if (!have[h]) continue;
+      have[h] = false;
+      if (write_command(newest[h]))
+        sent_.fetch_add(1, std::memory_order_relaxed);
+      else
+        dropped_.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
+}  // namespace sculpt::hal
