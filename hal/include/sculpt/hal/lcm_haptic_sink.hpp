@@ -1,0 +1,62 @@
+#pragma once
+// Haptic commands published over LCM (sculpt_lcm::haptic_command_t on the scene's haptic
+// channel), for a glove bridge process to forward to the actuators.
+
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <thread>
+
+#include "sculpt/hal/backend_config.hpp"
+#include "sculpt/hal/haptic_sink.hpp"
+#include "sculpt/hal/spsc_queue.hpp"
+
+namespace lcm {
+class LCM;
+}
+
+namespace sculpt::hal {
+
+/// send() only queues; a thread of the sink's own encodes and publishes, because LCM's
+/// publish allocates and may block. The thread looks at the queue every `poll_period` when it
+/// was empty (the loop does not wake it: that would be a system call in the tick).
+class LcmHapticSink final : public HapticSink {
+ public:
+  LcmHapticSink(const LcmConfig& config, std::size_t queue_capacity,
+                std::chrono::microseconds poll_period = std::chrono::microseconds(500));
+  /// Publishes on an existing LCM instance (not owned; it must outlive this sink), for memq://.
+  LcmHapticSink(lcm::LCM& shared, const LcmConfig& config, std::size_t queue_capacity,
+                std::chrono::microseconds poll_period = std::chrono::microseconds(500));
+  ~LcmHapticSink() override;
+  LcmHapticSink(const LcmHapticSink&) = delete;
+  LcmHapticSink& operator=(const LcmHapticSink&) = delete;
+
+  /// @throw std::runtime_error naming the URL when LCM cannot be opened, or when started twice.
+  void start() override;
+  /// Publishes what is still queued, then stops. Idempotent.
+  void stop() override;
+  bool send(const HapticCommand& command) noexcept override;
+  /// Commands refused because the queue was full.
+  std::uint64_t dropped() const noexcept override { return dropped_.load(std::memory_order_relaxed); }
+  std::uint64_t published() const noexcept { return published_.load(std::memory_order_relaxed); }
+  /// Commands that failed to encode or that LCM refused to publish.
+  std::uint64_t publish_errors() const noexcept { return publish_errors_.load(std::memory_order_relaxed); }
+  const char* name() const noexcept override { return "lcm"; }
+
+ private:
+  void run() noexcept;
+  std::size_t drain() noexcept;
+
+  LcmConfig config_;
+  std::chrono::microseconds poll_period_;
+  lcm::LCM* lcm_ = nullptr;  // owned_ or the shared instance
+  std::unique_ptr<lcm::LCM> owned_;
+  SpscQueue<HapticCommand> queue_;
+  std::atomic<std::uint64_t> dropped_{0}, published_{0}, publish_errors_{0};
+  std::atomic<bool> stop_requested_{false};
+  std::thread thread_;
+};
+
+}  // namespace sculpt::hal

@@ -1,0 +1,131 @@
+#include "sculpt/hal/lcm_glove_source.hpp"
+
+#include <time.h>
+
+#include <chrono>
+#include <stdexcept>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "sculpt/logging/glove_messages.hpp"
+
+namespace sculpt::hal {
+namespace {
+
+// How long one handleTimeout waits: the latency of stop(), not of the samples (LCM returns
+// as soon as a message arrives).
+constexpr int kHandleTimeoutMs = 50;
+// Back-off while LCM reports errors, so a broken socket does not spin a core.
+constexpr std::chrono::milliseconds kErrorBackoff{50};
+
+std::int64_t monotonic_ns() noexcept {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+}  // namespace
+
+LcmGloveSource::LcmGloveSource(const LcmConfig& config, std::size_t queue_capacity)
+    : config_(config), queue_(queue_capacity) {}
+
+LcmGloveSource::LcmGloveSource(lcm::LCM& shared, const LcmConfig& config, std::size_t queue_capacity)
+    : config_(config), lcm_(&shared), queue_(queue_capacity) {}
+
+LcmGloveSource::~LcmGloveSource() { stop(); }
+
+void LcmGloveSource::start() {
+  if (thread_.joinable()) throw std::runtime_error("LCM glove source: already started");
+  if (lcm_ == nullptr) {  // not shared (or closed by a previous stop)
+    owned_ = std::make_unique<lcm::LCM>(config_.url);
+    if (!owned_->good()) {
+      owned_.reset();
+      throw std::runtime_error("LCM glove source: cannot open LCM at '" + config_.url + "'");
+    }
+    lcm_ = owned_.get();
+  }
+  // A raw subscription: LCM's typed handlers drop a message that fails to decode with a line
+  // on stderr and nothing we could count; this way every bad message is a framing error.
+  subscription_ = lcm_->subscribeFunction(config_.glove_channel, &LcmGloveSource::on_message, this);
+  if (subscription_ == nullptr) {
+    if (owned_) {
+      owned_.reset();
+      lcm_ = nullptr;
+    }
+    throw std::runtime_error("LCM glove source: cannot subscribe to '" + config_.glove_channel +
+                             "' on '" + config_.url + "'");
+  }
+  sequence_.reset();
+  stop_requested_.store(false, std::memory_order_relaxed);
+  state_.store(SourceState::kConnected, std::memory_order_release);
+  thread_ = std::thread([this] { run(); });
+}
+
+void LcmGloveSource::stop() {
+  if (!thread_.joinable()) return;
+  stop_requested_.store(true, std::memory_order_release);
+  thread_.join();
+  lcm_->unsubscribe(subscription_);
+  subscription_ = nullptr;
+  if (owned_) {
+    owned_.reset();
+    lcm_ = nullptr;
+  }
+  state_.store(SourceState::kStopped, std::memory_order_release);
+}
+
+std::size_t LcmGloveSource::poll(std::span<GloveSample> out) noexcept {
+  std::size_t n = 0;
+  while (n < out.size() && queue_.pop(out[n])) ++n;
+  return n;
+}
+
+SourceCounters LcmGloveSource::counters() const noexcept { return counters_.snapshot(); }
+
+void LcmGloveSource::on_message(const lcm::ReceiveBuffer* buffer, const std::string& /*channel*/,
+                                LcmGloveSource* self) {
+  self->handle(buffer->data, buffer->data_size);
+}
+
+void LcmGloveSource::handle(const void* data, std::uint32_t size) noexcept {
+  const std::int64_t received_ns = monotonic_ns();
+  sculpt_lcm::glove_sample_t message;
+  // decode checks the type's fingerprint and every length; a message with bytes left over is
+  // not a glove_sample_t either.
+  const int used = message.decode(data, 0, static_cast<int>(size));
+  GloveSample sample;
+  if (used < 0 || static_cast<std::uint32_t>(used) != size || !logging::from_lcm(message, sample)) {
+    counters_.framing_errors.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  sample.receive_time_ns = received_ns;
+
+  // Wrap-around aware; a step back (device restart, reordered datagram) counts nothing.
+  if (const std::uint32_t missing = sequence_.observe(sample.hand, sample.sequence); missing > 0) {
+    counters_.sequence_gaps.fetch_add(missing, std::memory_order_relaxed);
+  }
+
+  if (queue_.push(sample)) {
+    counters_.samples.fetch_add(1, std::memory_order_relaxed);
+  } else {
+    counters_.overflows.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+void LcmGloveSource::run() noexcept {
+  while (!stop_requested_.load(std::memory_order_acquire)) {
+    if (lcm_->handleTimeout(kHandleTimeoutMs) < 0) {
+      if (state_.exchange(SourceState::kDisconnected) != SourceState::kDisconnected) {
+        counters_.disconnects.fetch_add(1, std::memory_order_relaxed);
+      }
+      std::this_thread::sleep_for(kErrorBackoff);
+      continue;
+    }
+    SourceState expected = SourceState::kDisconnected;
+    if (state_.compare_exchange_strong(expected, SourceState::kConnected)) {
+      counters_.reconnects.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
+}  // namespace sculpt::hal

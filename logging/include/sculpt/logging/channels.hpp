@@ -1,0 +1,13 @@
+#pragma once
+// LCM channel names of the station. Scenes may rename the glove and haptic channels
+// (hal::LcmConfig); these are the defaults and the names every tool expects.
+
+namespace sculpt::logging {
+
+inline constexpr const char* kGloveChannel = "SCULPT_GLOVE";          ///< sculpt_lcm::glove_sample_t
+inline constexpr const char* kFingertipChannel = "SCULPT_FINGERTIP";  ///< sculpt_lcm::fingertip_state_t
+inline constexpr const char* kCollisionChannel = "SCULPT_COLLISION";  ///< sculpt_lcm::collision_event_t
+inline constexpr const char* kTickChannel = "SCULPT_TICK";            ///< sculpt_lcm::tick_stats_t
+inline constexpr const char* kHapticChannel = "SCULPT_HAPTIC";        ///< sculpt_lcm::haptic_command_t
+
+}  // namespace sculpt::logging

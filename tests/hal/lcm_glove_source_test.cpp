@@ -1,0 +1,297 @@
+// LcmGloveSource on the real LCM code path: memq:// (one shared instance, deterministic) for
+// behaviour, and one udpm:// loopback test for the transport a station uses.
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "sculpt/hal/lcm_glove_source.hpp"
+#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt_lcm/haptic_command_t.hpp"
+
+namespace sculpt::hal {
+namespace {
+
+GloveSample make_sample(std::uint8_t hand, std::uint32_t sequence) {
+  GloveSample s;
+  s.hand = hand;
+  s.kind = SampleKind::kPositions;
+  s.sequence = sequence;
+  s.device_time_us = 1000ull * sequence;
+  for (std::size_t j = 0; j < kJointPoints; ++j) {
+    s.joints[j] = {static_cast<float>(sequence) * 0.001f, static_cast<float>(j), -0.5f};
+  }
+  return s;
+}
+
+std::vector<std::uint8_t> encode(const GloveSample& s) {
+  sculpt_lcm::glove_sample_t m{};
+  logging::to_lcm(s, 0, m);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+void publish(lcm::LCM& lcm, const std::string& channel, const std::vector<std::uint8_t>& bytes) {
+  ASSERT_EQ(lcm.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size())), 0);
+}
+
+void publish(lcm::LCM& lcm, const GloveSample& s) { publish(lcm, "SCULPT_GLOVE", encode(s)); }
+
+/// Waits until the source has dealt with `count` messages (queued, overflowed or refused).
+void wait_handled(const LcmGloveSource& source, std::uint64_t count) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  auto handled = [&] {
+    const SourceCounters c = source.counters();
+    return c.samples + c.overflows + c.framing_errors;
+  };
+  while (handled() < count && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_EQ(handled(), count);
+}
+
+std::vector<GloveSample> drain(LcmGloveSource& source) {
+  std::vector<GloveSample> got;
+  std::array<GloveSample, 8> buffer;
+  for (std::size_t n; (n = source.poll(buffer)) > 0;) got.insert(got.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(n));
+  return got;
+}
+
+std::int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+TEST(LcmGloveSource, DeliversSamplesInOrderStampedOnReceipt) {
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  LcmGloveSource source(lcm, LcmConfig{}, 64);
+  EXPECT_EQ(source.state(), SourceState::kStopped);
+  source.start();
+  EXPECT_EQ(source.state(), SourceState::kConnected);
+  EXPECT_STREQ(source.name(), "lcm");
+
+  const std::int64_t before = monotonic_ns();
+  for (std::uint32_t i = 0; i < 20; ++i) publish(lcm, make_sample(static_cast<std::uint8_t>(i % 2), i / 2));
+  wait_handled(source, 20);
+  const std::int64_t after = monotonic_ns();
+  const auto got = drain(source);
+  ASSERT_EQ(got.size(), 20u);
+  for (std::uint32_t i = 0; i < 20; ++i) {
+    const GloveSample want = make_sample(static_cast<std::uint8_t>(i % 2), i / 2);
+    EXPECT_EQ(got[i].hand, want.hand);
+    EXPECT_EQ(got[i].sequence, want.sequence);
+    EXPECT_EQ(got[i].device_time_us, want.device_time_us);
+    EXPECT_EQ(got[i].joints, want.joints);
+    EXPECT_GE(got[i].receive_time_ns, before);
+    EXPECT_LE(got[i].receive_time_ns, after);
+    if (i > 0) {
+      EXPECT_GE(got[i].receive_time_ns, got[i - 1].receive_time_ns);
+    }
+  }
+  const SourceCounters c = source.counters();
+  EXPECT_EQ(c.samples, 20u);
+  EXPECT_EQ(c.framing_errors, 0u);
+  EXPECT_EQ(c.sequence_gaps, 0u);
+  EXPECT_EQ(c.overflows, 0u);
+  source.stop();
+  EXPECT_EQ(source.state(), SourceState::kStopped);
+  source.stop();  // idempotent
+}
+
+TEST(LcmGloveSource, CorruptMessagesAreFramingErrorsAndTheNextGoodSampleArrives) {
+  lcm::LCM lcm("memq://");
+  LcmGloveSource source(lcm, LcmConfig{}, 64);
+  source.start();
+
+  const auto good = encode(make_sample(0, 1));
+  publish(lcm, "SCULPT_GLOVE", std::vector<std::uint8_t>{0xde, 0xad, 0xbe, 0xef, 0x00, 0x01});  // garbage
+  publish(lcm, "SCULPT_GLOVE", std::vector<std::uint8_t>(good.begin(), good.begin() + 100));  // truncated
+  auto trailing = good;
+  trailing.push_back(0);
+  publish(lcm, "SCULPT_GLOVE", trailing);  // a glove_sample_t and then some: not one
+  auto flipped = good;
+  flipped[3] ^= 0x40;  // inside the type fingerprint
+  publish(lcm, "SCULPT_GLOVE", flipped);
+  {
+    sculpt_lcm::haptic_command_t other{};  // well formed, wrong type
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(other.getEncodedSize()));
+    other.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    publish(lcm, "SCULPT_GLOVE", bytes);
+  }
+  {
+    GloveSample bad = make_sample(0, 1);
+    bad.joints[6][1] = std::nanf("");  // decodes, but is not a usable sample
+    publish(lcm, bad);
+    sculpt_lcm::glove_sample_t m{};
+    logging::to_lcm(make_sample(0, 1), 0, m);
+    m.hand = 3;
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
+    m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    publish(lcm, "SCULPT_GLOVE", bytes);
+  }
+  publish(lcm, "SCULPT_GLOVE", good);
+  wait_handled(source, 8);
+  const auto got = drain(source);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].sequence, 1u);
+  EXPECT_EQ(got[0].hand, 0u);
+  const SourceCounters c = source.counters();
+  EXPECT_EQ(c.framing_errors, 7u);
+  EXPECT_EQ(c.samples, 1u);
+  EXPECT_EQ(source.state(), SourceState::kConnected);
+}
+
+TEST(LcmGloveSource, SequenceGapsAreCountedPerHandAndSurviveWrapAround) {
+  lcm::LCM lcm("memq://");
+  LcmGloveSource source(lcm, LcmConfig{}, 64);
+  source.start();
+  // Left: 1, 2, 5 (3 and 4 missing). Right: 0xFFFFFFFE, 0xFFFFFFFF, 0, 1 (wraps, no gap),
+  // interleaved with the left hand, whose numbers must not be compared with the right's.
+  const std::vector<std::pair<std::uint8_t, std::uint32_t>> sent = {
+      {0, 1}, {1, 0xFFFF'FFFEu}, {0, 2}, {1, 0xFFFF'FFFFu}, {1, 0}, {0, 5}, {1, 1}};
+  for (const auto& [hand, seq] : sent) publish(lcm, make_sample(hand, seq));
+  wait_handled(source, sent.size());
+  EXPECT_EQ(source.counters().sequence_gaps, 2u);
+  // A duplicate or a step back (a device restart) resynchronises without a gap; the next
+  // step after it is measured from there.
+  publish(lcm, make_sample(0, 5));
+  publish(lcm, make_sample(0, 0));
+  publish(lcm, make_sample(0, 3));  // 1 and 2 missing
+  wait_handled(source, sent.size() + 3);
+  EXPECT_EQ(source.counters().sequence_gaps, 4u);
+  EXPECT_EQ(drain(source).size(), sent.size() + 3);
+}
+
+TEST(LcmGloveSource, FullQueueCountsOverflowsAndKeepsTheOldest) {
+  lcm::LCM lcm("memq://");
+  LcmGloveSource source(lcm, LcmConfig{}, 4);
+  source.start();
+  for (std::uint32_t i = 0; i < 7; ++i) publish(lcm, make_sample(1, i));
+  wait_handled(source, 7);
+  const SourceCounters c = source.counters();
+  EXPECT_EQ(c.samples, 4u);
+  EXPECT_EQ(c.overflows, 3u);
+  const auto got = drain(source);
+  ASSERT_EQ(got.size(), 4u);
+  EXPECT_EQ(got.front().sequence, 0u);
+  EXPECT_EQ(got.back().sequence, 3u);
+}
+
+TEST(LcmGloveSource, PollFillsAtMostTheSpanItIsGiven) {
+  lcm::LCM lcm("memq://");
+  LcmGloveSource source(lcm, LcmConfig{}, 16);
+  source.start();
+  for (std::uint32_t i = 0; i < 5; ++i) publish(lcm, make_sample(0, i));
+  wait_handled(source, 5);
+  std::array<GloveSample, 3> buffer;
+  EXPECT_EQ(source.poll(buffer), 3u);
+  EXPECT_EQ(buffer[2].sequence, 2u);
+  EXPECT_EQ(source.poll(buffer), 2u);
+  EXPECT_EQ(buffer[1].sequence, 4u);
+  EXPECT_EQ(source.poll(buffer), 0u);
+}
+
+TEST(LcmGloveSource, ListensOnTheConfiguredChannelOnly) {
+  lcm::LCM lcm("memq://");
+  LcmConfig config;
+  config.glove_channel = "STATION_B_GLOVE";
+  LcmGloveSource source(lcm, config, 16);
+  source.start();
+  publish(lcm, make_sample(0, 1));  // default channel: not ours
+  publish(lcm, "STATION_B_GLOVE", encode(make_sample(0, 2)));
+  wait_handled(source, 1);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const auto got = drain(source);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].sequence, 2u);
+}
+
+TEST(LcmGloveSource, BadUrlThrowsNamingItAndRestartWorks) {
+  LcmConfig config;
+  config.url = "nosuchprovider://glove";
+  LcmGloveSource bad(config, 8);
+  try {
+    bad.start();
+    FAIL() << "start() should have thrown";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("nosuchprovider://glove"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(bad.state(), SourceState::kStopped);
+
+  config.url = "memq://";  // owned instance: nothing else can publish on it, but it runs
+  LcmGloveSource owned(config, 8);
+  owned.start();
+  EXPECT_THROW(owned.start(), std::runtime_error);
+  owned.stop();
+  owned.start();
+  EXPECT_EQ(owned.state(), SourceState::kConnected);
+  owned.stop();
+}
+
+// The station's transport: UDP multicast on loopback (ttl=0). Multicast drops bursts here, so
+// a modest number of samples go out with pauses, and the test checks that what arrived is
+// exactly what was sent, in order, and that the gaps account for what did not.
+TEST(LcmGloveSource, UdpmLoopbackDeliversWhatWasSent) {
+  const int port = 17000 + static_cast<int>(getpid() % 5000);  // unique per test run
+  LcmConfig config;
+  config.url = "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
+  lcm::LCM sender(config.url);
+  if (!sender.good()) GTEST_SKIP() << "cannot open " << config.url << " (no multicast route?)";
+  LcmGloveSource source(config, 64);
+  try {
+    source.start();
+  } catch (const std::runtime_error& e) {
+    GTEST_SKIP() << e.what();
+  }
+  constexpr std::uint32_t kSent = 30;
+  std::vector<GloveSample> got;
+  for (std::uint32_t i = 0; i < kSent; ++i) {
+    const auto bytes = encode(make_sample(1, i));
+    if (sender.publish("SCULPT_GLOVE", bytes.data(), static_cast<unsigned>(bytes.size())) != 0) {
+      GTEST_SKIP() << "publish on " << config.url << " failed (no multicast route?)";
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(3));
+    auto more = drain(source);
+    got.insert(got.end(), more.begin(), more.end());
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
+  while (std::chrono::steady_clock::now() < deadline &&
+         (got.empty() || got.back().sequence + 1 < kSent)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    auto more = drain(source);
+    got.insert(got.end(), more.begin(), more.end());
+  }
+  source.stop();
+  if (got.empty()) GTEST_SKIP() << "nothing arrived on " << config.url << " (multicast loopback disabled?)";
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const GloveSample want = make_sample(1, got[i].sequence);
+    EXPECT_EQ(got[i].joints, want.joints);
+    EXPECT_EQ(got[i].device_time_us, want.device_time_us);
+    if (i > 0) {
+      EXPECT_GT(got[i].sequence, got[i - 1].sequence);
+    }
+  }
+  const SourceCounters c = source.counters();
+  EXPECT_EQ(c.framing_errors, 0u);
+  EXPECT_EQ(c.samples, got.size());
+  EXPECT_EQ(c.samples + c.sequence_gaps, got.back().sequence - got.front().sequence + 1);
+  // Loopback with pauses loses little; most must arrive.
+  EXPECT_GE(got.size(), kSent / 2) << "only " << got.size() << " of " << kSent << " arrived";
+}
+
+}  // namespace
+}  // namespace sculpt::hal

@@ -1,0 +1,114 @@
+// LcmHapticSink over memq://: what the loop send()s comes out on the haptic channel as
+// decodable haptic_command_t, captured by a raw subscriber on the same instance.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "sculpt/hal/lcm_haptic_sink.hpp"
+#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/logging/records.hpp"
+
+namespace sculpt::hal {
+namespace {
+
+struct Capture {
+  std::vector<std::vector<std::uint8_t>> messages;
+  std::vector<std::string> channels;
+  static void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Capture* self) {
+    const auto* bytes = static_cast<const std::uint8_t*>(rbuf->data);
+    self->messages.emplace_back(bytes, bytes + rbuf->data_size);
+    self->channels.push_back(channel);
+  }
+  void wait_for(lcm::LCM& lcm, std::size_t count) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (messages.size() < count && std::chrono::steady_clock::now() < deadline) lcm.handleTimeout(20);
+  }
+};
+
+HapticCommand make_command(std::uint32_t tick) {
+  HapticCommand c;
+  c.hand = static_cast<std::uint8_t>(tick % 2);
+  c.tick = tick;
+  c.active_mask = static_cast<std::uint8_t>(tick & 0x1F);
+  for (std::size_t f = 0; f < kFingers; ++f) {
+    c.force[f] = {0.1f * static_cast<float>(f), -0.01f * static_cast<float>(tick), 2.0f};
+  }
+  return c;
+}
+
+TEST(LcmHapticSink, PublishesDecodableCommandsOnTheHapticChannel) {
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  Capture capture;
+  lcm.subscribeFunction(".*", &Capture::on_message, &capture);
+  LcmConfig config;
+  config.haptic_channel = "TEST_HAPTIC";
+  LcmHapticSink sink(lcm, config, 16);
+  EXPECT_STREQ(sink.name(), "lcm");
+  sink.start();
+  const std::int64_t before = logging::wall_time_us();
+  for (std::uint32_t t = 10; t < 13; ++t) EXPECT_TRUE(sink.send(make_command(t)));
+  capture.wait_for(lcm, 3);
+  sink.stop();
+  ASSERT_EQ(capture.messages.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(capture.channels[i], "TEST_HAPTIC");
+    sculpt_lcm::haptic_command_t m{};
+    const auto& bytes = capture.messages[i];
+    ASSERT_EQ(m.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+    EXPECT_GE(m.utime, before);
+    HapticCommand got;
+    ASSERT_TRUE(logging::from_lcm(m, got));
+    const HapticCommand want = make_command(static_cast<std::uint32_t>(10 + i));
+    EXPECT_EQ(got.hand, want.hand);
+    EXPECT_EQ(got.tick, want.tick);
+    EXPECT_EQ(got.active_mask, want.active_mask);
+    EXPECT_EQ(got.force, want.force);
+  }
+  EXPECT_EQ(sink.published(), 3u);
+  EXPECT_EQ(sink.dropped(), 0u);
+  EXPECT_EQ(sink.publish_errors(), 0u);
+}
+
+TEST(LcmHapticSink, FullQueueDropsAreCountedAndStopFlushesTheRest) {
+  lcm::LCM lcm("memq://");
+  Capture capture;
+  lcm.subscribeFunction("SCULPT_HAPTIC", &Capture::on_message, &capture);
+  LcmHapticSink sink(lcm, LcmConfig{}, 2);
+  // Not started yet: nothing drains the queue.
+  EXPECT_TRUE(sink.send(make_command(1)));
+  EXPECT_TRUE(sink.send(make_command(2)));
+  EXPECT_FALSE(sink.send(make_command(3)));
+  EXPECT_EQ(sink.dropped(), 1u);
+  sink.start();
+  sink.stop();  // publishes what was queued before returning
+  EXPECT_EQ(sink.published(), 2u);
+  capture.wait_for(lcm, 2);
+  ASSERT_EQ(capture.messages.size(), 2u);
+  sculpt_lcm::haptic_command_t m{};
+  m.decode(capture.messages[1].data(), 0, static_cast<int>(capture.messages[1].size()));
+  EXPECT_EQ(m.tick, 2);
+  sink.stop();  // idempotent
+}
+
+TEST(LcmHapticSink, BadUrlThrowsNamingIt) {
+  LcmConfig config;
+  config.url = "nosuchprovider://haptic";
+  LcmHapticSink sink(config, 4);
+  try {
+    sink.start();
+    FAIL() << "start() should have thrown";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("nosuchprovider://haptic"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace sculpt::hal
