@@ -55,6 +55,14 @@ void Deformer::rebuild_index() {
   index_holds_base_ = false;
 }
 
+double Deformer::set_region_radius(double radius) noexcept {
+  region_.set_radius(radius);
+  settings_.region.radius = region_.settings().radius;
+  return settings_.region.radius;
+}
+
+double Deformer::min_region_radius() const noexcept { return region_.min_radius(); }
+
 void Deformer::restore(const PointModel& base) {
   if (base.size() != model_.size() || base.has_normals() != model_.has_normals()) {
     throw std::invalid_argument("deform: restore needs the base model the deformer was built on");
@@ -159,7 +167,12 @@ const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcep
     c.distance = now.distance;
     c.contact = model_.position(now.nearest);
     if (!crossed(cs.mode, now.side)) continue;
-    if (crossed(cs.mode, locate(model_, index_, drift_, probes[p].previous, cs).side)) {
+    // After a frame the probe rests on the surface up to the solve's residual, so a previous
+    // position less than Δd across it still counts as on the surface; only one clearly across
+    // started inside.
+    const double previous_side = locate(model_, index_, drift_, probes[p].previous, cs).side;
+    const double tolerance = cs.mode == ContactMode::kPush ? cs.min_source_distance : -cs.min_source_distance;
+    if (crossed(cs.mode, previous_side + tolerance)) {
       c.state = ProbeState::kStartedInside;
       continue;
     }

@@ -9,7 +9,9 @@ namespace sculpt::deform {
 
 Region::Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index,
                double bc_radius)
-    : settings_(settings), border_width_(settings.border_width > 0.0 ? settings.border_width : bc_radius) {
+    : settings_(settings),
+      border_width_(settings.border_width > 0.0 ? settings.border_width : bc_radius),
+      min_radius_(1.01 * (bc_radius + border_width_)) {
   using Kind = RegionSettings::Kind;
   if (!(settings_.border_weight >= 0.0) || !std::isfinite(settings_.border_weight)) {
     throw std::invalid_argument("region: border weight must be >= 0");

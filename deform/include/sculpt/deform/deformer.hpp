@@ -87,6 +87,11 @@ class Deformer {
   /// the index is rebuilt. Throws std::invalid_argument when `base` has another size or layout.
   void restore(const PointModel& base);
   const PointIndex& index() const { return index_; }
+  /// Changes the radius of a kRadius region between frames (the loop sizes it to its budget).
+  /// Clamped to the smallest radius the region accepts; returns the radius in force.
+  double set_region_radius(double radius) noexcept;
+  /// The smallest radius a kRadius region accepts: the bc radius plus the band, and a margin.
+  double min_region_radius() const noexcept;
   /// The pinned band of the last frame's region.
   std::span<const std::uint32_t> region_border() const { return region_.border(); }
   const PointModel& model() const { return model_; }

@@ -48,11 +48,15 @@ class Region {
   /// Points of the pinned band, ascending; a subset of points().
   std::span<const std::uint32_t> border() const { return border_; }
   const RegionSettings& settings() const { return settings_; }
+  /// For kRadius regions: a new radius for the next build (not below min_radius()).
+  void set_radius(double radius) noexcept { settings_.radius = radius > min_radius_ ? radius : min_radius_; }
+  double min_radius() const noexcept { return min_radius_; }
   double border_width() const { return border_width_; }
 
  private:
   RegionSettings settings_;
   double border_width_;
+  double min_radius_;
   std::vector<std::uint32_t> points_;
   std::vector<std::uint32_t> border_;
   std::vector<std::uint32_t> scratch_;

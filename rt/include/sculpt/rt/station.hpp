@@ -1,0 +1,146 @@
+#pragma once
+// The station's work for one tick of the loop (ARCHITECTURE.md steps 1-8): newest glove
+// sample per hand -> fingertips -> One-Euro filter -> Δs dead band -> registration into the
+// model frame -> collision frame within the budget -> haptic forces -> accounting.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "sculpt/deform/deformer.hpp"
+#include "sculpt/hal/glove_source.hpp"
+#include "sculpt/hal/hand_model.hpp"
+#include "sculpt/hal/haptic_sink.hpp"
+#include "sculpt/rt/dead_band.hpp"
+#include "sculpt/rt/one_euro_filter.hpp"
+#include "sculpt/rt/similarity_transform.hpp"
+
+namespace sculpt::rt {
+
+struct FingerId {
+  std::uint8_t hand = 0;
+  std::uint8_t finger = 1;
+};
+
+/// How large a region a collision frame may move.
+struct RegionPolicy {
+  enum class Kind { kGlobal, kRadius, kAuto } kind = Kind::kAuto;
+  double radius = 0.0;           ///< kRadius: fixed; kAuto: the first frame's radius (0: 10 spacings)
+  double budget_fraction = 0.6;  ///< kAuto: share of the tick the deformation may use
+};
+
+struct StationSettings {
+  double rate_hz = 1000.0;
+  double glove_timeout_s = 0.1;  ///< older newest-sample than this: stale, every force released
+  std::vector<FingerId> fingers;  ///< the fingers that act, at most deform::kMaxSources
+  bool filter_enabled = true;
+  OneEuroParams filter;
+  double glove_rate_hz = 80.0;    ///< nominal sample rate, for the filter's first step
+  double delta_s = 0.0;           ///< Δs dead band, model units (applied after registration)
+  SimilarityTransform registration;
+  hal::HandModel hand_model;
+  RegionPolicy region;
+  deform::DeformSettings deform;  ///< its region is set from `region`
+};
+
+/// Per finger, what the last tick saw.
+struct FingerState {
+  bool tracked = false;          ///< the glove has reported this finger
+  deform::Vec3 raw;              ///< glove frame
+  deform::Vec3 filtered;         ///< glove frame
+  deform::Vec3 registered;       ///< model frame
+  bool in_contact = false;
+  deform::Vec3 haptic_force;     ///< glove frame, the reaction of the surface on the finger
+  std::uint64_t collisions = 0;  ///< total collision events of this finger
+};
+
+enum class GloveState : std::uint8_t { kWaiting, kLive, kStale };
+
+struct TickReport {
+  std::uint64_t tick = 0;
+  GloveState glove = GloveState::kWaiting;
+  double glove_age_ms = 0.0;
+  std::size_t samples = 0;        ///< glove samples taken this tick
+  bool frame = false;             ///< a collision frame ran
+  std::size_t collisions = 0;
+  std::size_t region_points = 0;
+  double region_radius = 0.0;
+  double deform_ns = 0.0;
+  std::int64_t budget_ns = 0;
+};
+
+/// Totals since start, for the summary.
+struct StationTotals {
+  std::uint64_t ticks = 0;
+  std::uint64_t frames = 0;
+  std::uint64_t collisions = 0;
+  std::uint64_t stale_ticks = 0;
+  std::uint64_t stale_events = 0;  ///< times the glove went stale
+  std::uint64_t samples = 0;
+  double max_region_radius = 0.0;
+  std::size_t max_region_points = 0;
+};
+
+/// Everything is allocated by the constructor; tick() allocates nothing, throws nothing and
+/// prints nothing. The glove source and haptic sink are started by start() (set-up).
+class Station {
+ public:
+  Station(deform::PointModel& model, StationSettings settings, std::unique_ptr<hal::GloveSource> glove,
+          std::unique_ptr<hal::HapticSink> haptic);
+  ~Station();
+
+  void start();
+  void stop();
+
+  /// One tick at time `now_ns` (CLOCK_MONOTONIC) with `budget_ns` of the period left.
+  const TickReport& tick(std::int64_t now_ns, std::int64_t budget_ns) noexcept;
+
+  const std::vector<FingerState>& fingers() const { return fingers_; }
+  const StationSettings& settings() const { return settings_; }
+  const StationTotals& totals() const { return totals_; }
+  /// The last collision frame's report (an empty report before the first frame).
+  const deform::FrameReport& last_frame() const { return *last_frame_; }
+  hal::SourceCounters glove_counters() const { return glove_->counters(); }
+  hal::SourceState glove_state() const { return glove_->state(); }
+  const hal::HapticSink* haptic() const { return haptic_.get(); }
+  deform::Deformer& deformer() { return deformer_; }
+
+ private:
+  struct Track {
+    OneEuroFilter3 filter;
+    DeadBand dead_band;
+    bool accepted_this_tick = false;
+  };
+
+  void take_samples(std::int64_t now_ns) noexcept;
+  void release_forces() noexcept;
+  void update_fingers(std::int64_t now_ns) noexcept;
+  void run_frame(std::int64_t budget_ns) noexcept;
+  void send_haptics() noexcept;
+  void size_region(std::int64_t budget_ns) noexcept;
+  deform::Vec3 to_glove_frame(const deform::Vec3& v) const noexcept;
+
+  StationSettings settings_;
+  deform::Deformer deformer_;
+  std::unique_ptr<hal::GloveSource> glove_;
+  std::unique_ptr<hal::HapticSink> haptic_;
+  std::vector<hal::GloveSample> inbox_;
+  std::array<hal::GloveSample, hal::kHands> newest_{};
+  std::array<bool, hal::kHands> has_sample_{};
+  std::array<bool, hal::kHands> fresh_{};
+  std::int64_t last_sample_ns_ = 0;
+  bool stale_ = false;
+  std::vector<FingerState> fingers_;
+  std::vector<Track> tracks_;
+  std::vector<deform::ProbeMotion> probes_;
+  std::vector<std::size_t> probe_finger_;  // probes_[k] belongs to fingers_[probe_finger_[k]]
+  TickReport report_;
+  StationTotals totals_;
+  deform::FrameReport empty_frame_;
+  const deform::FrameReport* last_frame_ = &empty_frame_;
+  double cost_per_point_force_ns_ = 0.0;  // measured, exponentially averaged
+  std::uint32_t haptic_tick_ = 0;
+};
+
+}  // namespace sculpt::rt

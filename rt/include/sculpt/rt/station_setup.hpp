@@ -1,0 +1,34 @@
+#pragma once
+// From a scene to a ready station: the model loaded with the normals it asks for, defaults
+// derived from the model's own scale, registration calibrated, backends built.
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sculpt/deform/point_model.hpp"
+#include "sculpt/rt/scene.hpp"
+#include "sculpt/rt/similarity_transform.hpp"
+#include "sculpt/rt/station.hpp"
+
+namespace sculpt::rt {
+
+struct StationSetup {
+  deform::PointModel model;
+  StationSettings settings;
+  std::string normals_source;          ///< "file", "from faces", "estimated (PCA)", "none"
+  double spacing = 0.0;                ///< the model's mean point spacing
+  std::optional<Calibration> calibration;  ///< when the scene gave landmarks
+  std::vector<std::string> notes;      ///< defaults derived, for the user to see once
+};
+
+/// Loads and prepares everything the scene names (set-up: may allocate and throw; model file
+/// errors are deform::ModelFileError, setting errors std::invalid_argument naming the key).
+StationSetup prepare_station(const Scene& scene);
+
+/// The station for a prepared set-up: builds the scene's glove source and haptic sink (and
+/// nothing else). `setup` must outlive the station.
+std::unique_ptr<Station> make_station(StationSetup& setup, const Scene& scene);
+
+}  // namespace sculpt::rt

@@ -1,0 +1,266 @@
+#include "sculpt/rt/station.hpp"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "sculpt/deform/model_scale.hpp"
+
+namespace sculpt::rt {
+namespace {
+
+std::int64_t monotonic_ns() noexcept {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+deform::Vec3 to_vec3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+std::array<double, 3> to_array(const deform::Vec3& v) { return {v.x, v.y, v.z}; }
+
+// The deformer's settings follow from the station's: one probe per acting finger, traction
+// only when a haptic sink will use it, and the region from the policy.
+deform::DeformSettings prepared(StationSettings& s, const deform::PointModel& model, bool haptics) {
+  if (s.fingers.empty()) throw std::invalid_argument("station: no finger acts (glove.fingers is empty)");
+  if (s.fingers.size() > deform::kMaxSources) {
+    throw std::invalid_argument("station: at most " + std::to_string(deform::kMaxSources) + " fingers can act");
+  }
+  for (std::size_t i = 0; i < s.fingers.size(); ++i) {
+    const FingerId f = s.fingers[i];
+    if (f.hand >= hal::kHands || f.finger >= hal::kFingers) {
+      throw std::invalid_argument("station: finger " + std::to_string(i) + " is not hand 0-1, finger 0-4");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (s.fingers[j].hand == f.hand && s.fingers[j].finger == f.finger) {
+        throw std::invalid_argument("station: finger " + std::to_string(i) + " is listed twice");
+      }
+    }
+  }
+  if (!(s.glove_timeout_s > 0.0)) throw std::invalid_argument("station: glove timeout must be positive");
+  deform::DeformSettings d = s.deform;
+  d.max_probes = s.fingers.size();
+  d.traction = haptics;
+  switch (s.region.kind) {
+    case RegionPolicy::Kind::kGlobal:
+      d.region.kind = deform::RegionSettings::Kind::kGlobal;
+      break;
+    case RegionPolicy::Kind::kRadius:
+      d.region.kind = deform::RegionSettings::Kind::kRadius;
+      d.region.radius = s.region.radius;
+      break;
+    case RegionPolicy::Kind::kAuto: {
+      d.region.kind = deform::RegionSettings::Kind::kRadius;
+      const double spacing = deform::mean_spacing(model, deform::PointIndex(model));
+      const double floor = 1.5 * (d.contact.bc_radius + std::max(d.region.border_width, d.contact.bc_radius));
+      d.region.radius = std::max(s.region.radius > 0.0 ? s.region.radius : 10.0 * spacing, floor);
+      if (!(s.region.budget_fraction > 0.0 && s.region.budget_fraction <= 1.0)) {
+        throw std::invalid_argument("station: budget fraction must lie in (0, 1]");
+      }
+      break;
+    }
+  }
+  return d;
+}
+
+}  // namespace
+
+Station::Station(deform::PointModel& model, StationSettings settings, std::unique_ptr<hal::GloveSource> glove,
+                 std::unique_ptr<hal::HapticSink> haptic)
+    : settings_(std::move(settings)),
+      deformer_(model, prepared(settings_, model, haptic != nullptr)),
+      glove_(std::move(glove)),
+      haptic_(std::move(haptic)) {
+  if (!glove_) throw std::invalid_argument("station: no glove source");
+  inbox_.resize(256);
+  fingers_.resize(settings_.fingers.size());
+  tracks_.reserve(settings_.fingers.size());
+  for (std::size_t i = 0; i < settings_.fingers.size(); ++i) {
+    tracks_.push_back(Track{OneEuroFilter3(settings_.filter, settings_.glove_rate_hz), DeadBand(settings_.delta_s), false});
+  }
+  probes_.reserve(settings_.fingers.size());
+  probe_finger_.reserve(settings_.fingers.size());
+}
+
+Station::~Station() { stop(); }
+
+void Station::start() {
+  if (haptic_) haptic_->start();
+  glove_->start();
+}
+
+void Station::stop() {
+  glove_->stop();
+  if (haptic_) haptic_->stop();
+}
+
+void Station::take_samples(std::int64_t now_ns) noexcept {
+  fresh_.fill(false);
+  std::size_t n = 0;
+  // Drain everything queued: the newest sample per hand wins, older ones only count.
+  while ((n = glove_->poll(inbox_)) > 0) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const hal::GloveSample& s = inbox_[i];
+      if (s.hand >= hal::kHands) continue;
+      newest_[s.hand] = s;
+      has_sample_[s.hand] = true;
+      fresh_[s.hand] = true;
+      last_sample_ns_ = std::max(last_sample_ns_, s.receive_time_ns);
+    }
+    report_.samples += n;
+    if (n < inbox_.size()) break;
+  }
+  totals_.samples += report_.samples;
+  const bool any = has_sample_[0] || has_sample_[1];
+  report_.glove_age_ms = any ? static_cast<double>(now_ns - last_sample_ns_) * 1e-6 : 0.0;
+}
+
+void Station::release_forces() noexcept {
+  for (std::size_t i = 0; i < fingers_.size(); ++i) {
+    fingers_[i].in_contact = false;
+    fingers_[i].haptic_force = deform::Vec3{};
+    // A finger that comes back starts a new stroke: no force may be formed from a position
+    // recorded before the glove went silent.
+    tracks_[i].dead_band.reset();
+    tracks_[i].filter.reset();
+  }
+  send_haptics();
+}
+
+void Station::update_fingers(std::int64_t) noexcept {
+  for (std::size_t i = 0; i < fingers_.size(); ++i) {
+    const FingerId id = settings_.fingers[i];
+    Track& track = tracks_[i];
+    track.accepted_this_tick = false;
+    if (!fresh_[id.hand]) continue;
+    const hal::GloveSample& sample = newest_[id.hand];
+    const std::array<hal::Point3f, hal::kFingers> tips = settings_.hand_model.tips(sample);
+    FingerState& f = fingers_[i];
+    f.tracked = true;
+    f.raw = {tips[id.finger][0], tips[id.finger][1], tips[id.finger][2]};
+    const double t = static_cast<double>(sample.device_time_us) * 1e-6;
+    f.filtered = settings_.filter_enabled ? to_vec3(track.filter.filter(to_array(f.raw), t)) : f.raw;
+    f.registered = to_vec3(settings_.registration.apply(to_array(f.filtered)));
+    track.accepted_this_tick = track.dead_band.offer(to_array(f.registered));
+  }
+}
+
+void Station::size_region(std::int64_t budget_ns) noexcept {
+  if (settings_.region.kind != RegionPolicy::Kind::kAuto || cost_per_point_force_ns_ <= 0.0) return;
+  const deform::FrameReport& last = *last_frame_;
+  if (last.region_points == 0) return;
+  // The work is proportional to points x forces; aim the next region at what the remaining
+  // budget can pay for, nearest points first (the region is a ball around each contact).
+  const double forces = static_cast<double>(std::max<std::size_t>(probes_.size(), 1));
+  const double allowed = settings_.region.budget_fraction * static_cast<double>(budget_ns) /
+                         (cost_per_point_force_ns_ * forces);
+  const double current = deformer_.settings().region.radius;
+  const double scale = std::sqrt(std::max(allowed, 1.0) / static_cast<double>(last.region_points));
+  deformer_.set_region_radius(current * std::clamp(scale, 0.5, 2.0));
+}
+
+void Station::run_frame(std::int64_t budget_ns) noexcept {
+  probes_.clear();
+  probe_finger_.clear();
+  for (std::size_t i = 0; i < fingers_.size(); ++i) {
+    const DeadBand& band = tracks_[i].dead_band;
+    if (band.history_size() == 0) continue;
+    deform::ProbeMotion motion;
+    motion.current = to_vec3(band.current());
+    motion.previous = band.history_size() >= 2 ? to_vec3(band.previous()) : motion.current;
+    if (band.history_size() >= 3) motion.earlier = to_vec3(band.earlier());
+    probes_.push_back(motion);
+    probe_finger_.push_back(i);
+  }
+  if (probes_.empty()) return;
+  size_region(budget_ns);
+  const std::int64_t start = monotonic_ns();
+  const deform::FrameReport& frame = deformer_.deform(probes_);
+  report_.deform_ns = static_cast<double>(monotonic_ns() - start);
+  last_frame_ = &frame;
+  report_.frame = true;
+  report_.collisions = frame.collisions;
+  report_.region_points = frame.region_points;
+  report_.region_radius = deformer_.settings().region.kind == deform::RegionSettings::Kind::kRadius
+                              ? deformer_.settings().region.radius
+                              : 0.0;
+  ++totals_.frames;
+  totals_.collisions += frame.collisions;
+  totals_.max_region_points = std::max(totals_.max_region_points, frame.region_points);
+  totals_.max_region_radius = std::max(totals_.max_region_radius, report_.region_radius);
+  if (frame.collisions > 0 && frame.region_points > 0) {
+    const double sample = report_.deform_ns / (static_cast<double>(frame.region_points) * frame.collisions);
+    cost_per_point_force_ns_ = cost_per_point_force_ns_ > 0.0 ? 0.8 * cost_per_point_force_ns_ + 0.2 * sample : sample;
+  }
+  for (std::size_t k = 0; k < probes_.size(); ++k) {
+    const deform::ContactReport& c = frame.contacts[k];
+    FingerState& f = fingers_[probe_finger_[k]];
+    f.in_contact = c.state == deform::ProbeState::kCollided;
+    if (f.in_contact) ++f.collisions;
+    // The surface pushes back on the finger with minus the traction it carries; into the
+    // glove frame by the registration's rotation (forces do not scale with positions).
+    f.haptic_force = c.has_traction ? to_glove_frame(-c.traction_resultant) : deform::Vec3{};
+    if (c.pushed_out) {
+      DeadBand& band = tracks_[probe_finger_[k]].dead_band;
+      band.reset();
+      band.offer(to_array(c.probe_after));
+    }
+  }
+}
+
+deform::Vec3 Station::to_glove_frame(const deform::Vec3& v) const noexcept {
+  const Matrix3& r = settings_.registration.rotation();  // R^T v: the inverse rotation
+  deform::Vec3 out;
+  for (int i = 0; i < 3; ++i) out[i] = r[0][i] * v.x + r[1][i] * v.y + r[2][i] * v.z;
+  return out;
+}
+
+void Station::send_haptics() noexcept {
+  if (!haptic_) return;
+  for (std::uint8_t hand = 0; hand < hal::kHands; ++hand) {
+    hal::HapticCommand command;
+    command.hand = hand;
+    command.tick = haptic_tick_;
+    bool acts = false;
+    for (std::size_t i = 0; i < fingers_.size(); ++i) {
+      const FingerId id = settings_.fingers[i];
+      if (id.hand != hand) continue;
+      acts = true;
+      if (fingers_[i].in_contact) command.active_mask |= static_cast<std::uint8_t>(1u << id.finger);
+      const deform::Vec3& v = fingers_[i].haptic_force;
+      command.force[id.finger] = {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+    }
+    if (acts) haptic_->send(command);
+  }
+  ++haptic_tick_;
+}
+
+const TickReport& Station::tick(std::int64_t now_ns, std::int64_t budget_ns) noexcept {
+  report_ = TickReport{};
+  report_.tick = totals_.ticks++;
+  report_.budget_ns = budget_ns;
+  take_samples(now_ns);
+  const bool any = has_sample_[0] || has_sample_[1];
+  const auto timeout_ns = static_cast<std::int64_t>(std::llround(settings_.glove_timeout_s * 1e9));
+  const bool stale = !any || now_ns - last_sample_ns_ > timeout_ns;
+  report_.glove = !any ? GloveState::kWaiting : (stale ? GloveState::kStale : GloveState::kLive);
+  if (stale) {
+    ++totals_.stale_ticks;
+    if (!stale_ && any) ++totals_.stale_events;
+    if (!stale_) release_forces();
+    stale_ = true;
+    return report_;
+  }
+  stale_ = false;
+  update_fingers(now_ns);
+  const bool moved = std::any_of(tracks_.begin(), tracks_.end(), [](const Track& t) { return t.accepted_this_tick; });
+  if (moved) {
+    run_frame(budget_ns);
+    send_haptics();
+  }
+  return report_;
+}
+
+}  // namespace sculpt::rt

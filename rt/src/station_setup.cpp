@@ -1,0 +1,121 @@
+#include "sculpt/rt/station_setup.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "sculpt/deform/model_io.hpp"
+#include "sculpt/deform/model_scale.hpp"
+#include "sculpt/deform/normals.hpp"
+#include "sculpt/hal/backend_factory.hpp"
+
+namespace sculpt::rt {
+namespace {
+
+std::string describe(const char* key, double value, const char* rule) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof buffer, "%s = %.4g (%s)", key, value, rule);
+  return buffer;
+}
+
+void load_normals(StationSetup& s, const Scene& scene) {
+  deform::PointModel& m = s.model;
+  switch (scene.model.normals) {
+    case NormalsSource::kNone:
+      m.clear_normals();
+      s.normals_source = "none";
+      return;
+    case NormalsSource::kFaces:
+      if (m.triangles.empty()) {
+        throw std::invalid_argument("model.normals = \"faces\" but " + scene.model.path + " has no faces");
+      }
+      deform::compute_normals_from_faces(m);
+      s.normals_source = "from faces";
+      return;
+    case NormalsSource::kPca:
+      deform::estimate_normals(m);
+      s.normals_source = "estimated (PCA)";
+      return;
+    case NormalsSource::kAuto:
+      s.normals_source = m.has_normals() ? "file" : (m.triangles.empty() ? "estimated (PCA)" : "from faces");
+      deform::ensure_normals(m);
+      return;
+  }
+}
+
+}  // namespace
+
+StationSetup prepare_station(const Scene& scene) {
+  StationSetup s;
+  s.model = deform::read_model(scene.model.path);
+  load_normals(s, scene);
+  s.spacing = deform::mean_spacing(s.model, deform::PointIndex(s.model));
+
+  StationSettings& st = s.settings;
+  st.rate_hz = scene.loop.rate_hz;
+  st.glove_timeout_s = scene.glove.timeout_ms * 1e-3;
+  for (std::uint8_t hand : scene.glove.hands) {
+    for (std::uint8_t finger : scene.glove.fingers) st.fingers.push_back({hand, finger});
+  }
+  st.filter_enabled = scene.filter.enabled;
+  st.filter = {scene.filter.min_cutoff, scene.filter.beta, scene.filter.d_cutoff};
+  if (scene.glove.config.backend == hal::Backend::kSim) st.glove_rate_hz = scene.glove.config.sim.rate_hz;
+
+  // Distances the thesis gave in its sphere's units are derived from this model's spacing
+  // unless the scene sets them (the thesis's sphere has a spacing of about 0.06).
+  const auto pick = [&](const std::optional<double>& given, double factor, const char* key) {
+    if (given) return *given;
+    s.notes.push_back(describe(key, factor * s.spacing, "derived from the mean point spacing"));
+    return factor * s.spacing;
+  };
+  deform::DeformSettings& d = st.deform;
+  d.kernel = {scene.kernel.kind, scene.material, scene.kernel.eps};
+  d.contact.mode = scene.deform.mode;
+  d.contact.bc_radius = pick(scene.deform.bc_radius, 1.0, "deform.bc_radius");
+  d.contact.min_source_distance = pick(scene.deform.delta_d, 0.25, "deform.delta_d");
+  d.contact.guard_distance = pick(scene.deform.delta_r, 1.5, "deform.delta_r");
+  d.contact.reference = scene.model.reference;
+  st.delta_s = pick(scene.deform.delta_s, 1.0, "deform.delta_s");
+  d.solver.form = scene.deform.form;
+  d.field.precision = scene.deform.precision;
+  d.field.carry_normals = scene.deform.carry_normals;
+  d.region.border_weight = scene.deform.border_weight;
+  switch (scene.heuristic.region) {
+    case RegionChoice::kGlobal: st.region.kind = RegionPolicy::Kind::kGlobal; break;
+    case RegionChoice::kRadius: st.region.kind = RegionPolicy::Kind::kRadius; break;
+    case RegionChoice::kAuto: st.region.kind = RegionPolicy::Kind::kAuto; break;
+  }
+  st.region.radius = scene.heuristic.region_radius;
+  st.region.budget_fraction = scene.heuristic.budget_fraction;
+
+  if (!scene.registration.landmarks.empty()) {
+    std::vector<std::array<double, 3>> glove, model;
+    for (const Landmark& l : scene.registration.landmarks) {
+      glove.push_back({l.glove.x, l.glove.y, l.glove.z});
+      model.push_back({l.model.x, l.model.y, l.model.z});
+    }
+    s.calibration = calibrate_umeyama(glove, model);
+    st.registration = s.calibration->transform;
+  } else {
+    const auto& q = scene.registration.rotation;
+    st.registration = SimilarityTransform::from_scale_rotation_translation(
+        scene.registration.scale, Quaternion{q[0], q[1], q[2], q[3]},
+        {scene.registration.translation.x, scene.registration.translation.y, scene.registration.translation.z});
+  }
+  if (scene.hand.bone_lengths) {
+    std::array<hal::FingerBones, hal::kFingers> bones = hal::HandModel().bones();
+    for (std::size_t f = 0; f < hal::kFingers; ++f) {
+      bones[f].proximal = static_cast<float>((*scene.hand.bone_lengths)[f][0]);
+      bones[f].middle = static_cast<float>((*scene.hand.bone_lengths)[f][1]);
+      bones[f].distal = static_cast<float>((*scene.hand.bone_lengths)[f][2]);
+    }
+    st.hand_model = hal::HandModel(bones);
+  }
+  return s;
+}
+
+std::unique_ptr<Station> make_station(StationSetup& setup, const Scene& scene) {
+  return std::make_unique<Station>(setup.model, setup.settings, hal::make_glove_source(scene.glove.config),
+                                   hal::make_haptic_sink(scene.haptic));
+}
+
+}  // namespace sculpt::rt

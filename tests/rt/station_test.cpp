@@ -1,0 +1,169 @@
+// The station's tick with a scripted glove and a recording haptic sink: it deforms where the
+// finger presses, allocates nothing after warm-up, and releases every force within one tick
+// of the glove going silent.
+#include "sculpt/rt/station.hpp"
+
+#include <gtest/gtest.h>
+
+#include <deque>
+
+#include "sculpt/deform/generators.hpp"
+#include "support/allocation_counter.hpp"
+
+namespace sculpt::rt {
+namespace {
+
+// A glove the test feeds by hand; poll() hands over what was fed, like a real backend's queue.
+class FakeGlove final : public hal::GloveSource {
+ public:
+  FakeGlove() { pending_.resize(64); }
+  void start() override {}
+  void stop() override {}
+  std::size_t poll(std::span<hal::GloveSample> out) noexcept override {
+    const std::size_t n = std::min(out.size(), count_);
+    for (std::size_t i = 0; i < n; ++i) out[i] = pending_[i];
+    count_ = 0;
+    return n;
+  }
+  hal::SourceCounters counters() const noexcept override { return {}; }
+  hal::SourceState state() const noexcept override { return hal::SourceState::kConnected; }
+  const char* name() const noexcept override { return "fake"; }
+
+  void feed(const deform::Vec3& index_tip, std::int64_t now_ns, std::uint64_t device_us) {
+    hal::GloveSample s;
+    s.sequence = sequence_++;
+    s.device_time_us = device_us;
+    s.receive_time_ns = now_ns;
+    s.joints[hal::kTipJoint[1]] = {static_cast<float>(index_tip.x), static_cast<float>(index_tip.y),
+                                   static_cast<float>(index_tip.z)};
+    pending_[count_++] = s;
+  }
+
+ private:
+  std::vector<hal::GloveSample> pending_;
+  std::size_t count_ = 0;
+  std::uint32_t sequence_ = 0;
+};
+
+class RecordingSink final : public hal::HapticSink {
+ public:
+  explicit RecordingSink(std::vector<hal::HapticCommand>* log) : log_(log) {}
+  void start() override {}
+  void stop() override {}
+  bool send(const hal::HapticCommand& c) noexcept override {
+    if (log_->size() < log_->capacity()) log_->push_back(c);  // capacity reserved by the test
+    return true;
+  }
+  std::uint64_t dropped() const noexcept override { return 0; }
+  const char* name() const noexcept override { return "recording"; }
+
+ private:
+  std::vector<hal::HapticCommand>* log_;
+};
+
+StationSettings press_settings() {
+  StationSettings s;
+  s.fingers = {{0, 1}};
+  s.filter_enabled = false;  // the test drives exact positions
+  s.delta_s = 0.02;
+  s.glove_timeout_s = 0.05;
+  s.region.kind = RegionPolicy::Kind::kAuto;
+  s.deform.contact.bc_radius = 0.06;
+  s.deform.contact.min_source_distance = 0.01;
+  s.deform.contact.guard_distance = 0.05;
+  return s;
+}
+
+constexpr std::int64_t kMs = 1'000'000;
+
+TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSilent) {
+  deform::PointModel sphere = deform::make_sphere();
+  const deform::PointModel before = sphere;
+  auto glove = std::make_unique<FakeGlove>();
+  FakeGlove* g = glove.get();
+  std::vector<hal::HapticCommand> haptics;
+  haptics.reserve(10000);
+  Station station(sphere, press_settings(), std::move(glove), std::make_unique<RecordingSink>(&haptics));
+  station.start();
+
+  // The finger descends along +z onto the pole from 1.3 to 0.9 in 5 ms steps (one sample per
+  // 5 ticks of a 1 kHz loop), then holds.
+  std::int64_t now = 0;
+  std::uint64_t collisions = 0;
+  // A tight budget (30 us per tick) keeps the auto region small: it may move only the points
+  // that budget pays for, nearest first.
+  constexpr std::int64_t kBudget = 30'000;
+  auto step = [&](double z, bool feed) {
+    for (int t = 0; t < 5; ++t) {
+      now += kMs;
+      if (feed && t == 0) g->feed({0.0, 0.0, z}, now, static_cast<std::uint64_t>(now / 1000));
+      collisions += station.tick(now, kBudget).collisions;
+    }
+  };
+  for (int i = 0; i < 4; ++i) step(1.3 - 0.02 * i, true);  // warm-up: first frames size buffers
+  std::uint64_t allocations = 0;
+  {
+    test::AllocationCounter counter;
+    for (int i = 4; i <= 20; ++i) step(1.3 - 0.02 * i, true);
+    allocations = counter.count();
+  }
+  EXPECT_EQ(allocations, 0u) << "the tick allocated";
+  EXPECT_GT(collisions, 0u);
+  EXPECT_GT(station.totals().frames, 10u);
+  // The pole was pushed in toward the finger's final depth.
+  double lowest = 2.0;
+  for (std::size_t i = 0; i < sphere.size(); ++i) {
+    if (before.z[i] > 0.0f && std::abs(sphere.x[i]) < 0.05 && std::abs(sphere.y[i]) < 0.05) lowest = std::min(lowest, double(sphere.z[i]));
+  }
+  EXPECT_LT(lowest, 0.95);
+  EXPECT_GT(lowest, 0.85);
+  // The far side did not move much.
+  std::size_t far = 0;
+  for (std::size_t i = 0; i < sphere.size(); ++i)
+    if (before.z[i] < -0.5f && sphere.z[i] != before.z[i]) ++far;
+  EXPECT_EQ(far, 0u) << "the auto region should keep the far side untouched";
+  EXPECT_GT(station.totals().max_region_points, 0u);
+  EXPECT_LT(station.totals().max_region_points, sphere.size());
+  ASSERT_FALSE(haptics.empty());
+  bool felt = false;
+  for (const hal::HapticCommand& c : haptics) felt |= (c.active_mask & 0b10) && c.force[1][2] > 0.0f;
+  EXPECT_TRUE(felt) << "a press pushes the finger back out, along +z";
+
+  // Silence: within one tick past the timeout every force is released.
+  const std::size_t sent = haptics.size();
+  const std::int64_t last_sample = now - 4 * kMs;
+  while (now + kMs - last_sample <= 50 * kMs) {  // ticks up to an age of exactly the timeout
+    now += kMs;
+    EXPECT_NE(station.tick(now, kMs).glove, GloveState::kStale);
+  }
+  now += kMs;
+  EXPECT_EQ(station.tick(now, kMs).glove, GloveState::kStale);
+  ASSERT_GT(haptics.size(), sent);
+  EXPECT_EQ(haptics.back().active_mask, 0);
+  EXPECT_EQ(haptics.back().force[1][2], 0.0f);
+  EXPECT_FALSE(station.fingers()[0].in_contact);
+  EXPECT_EQ(station.totals().stale_events, 1u);
+
+  // Data from before the silence never makes a force: the next sample starts a new stroke.
+  const deform::PointModel held = sphere;
+  g->feed({0.0, 0.0, 0.5}, now, static_cast<std::uint64_t>(now / 1000));
+  now += kMs;
+  const TickReport& r = station.tick(now, kMs);
+  EXPECT_EQ(r.glove, GloveState::kLive);
+  EXPECT_EQ(r.collisions, 0u);
+  EXPECT_EQ(sphere.z, held.z);
+}
+
+TEST(Station, RejectsBadFingerLists) {
+  deform::PointModel sphere = deform::make_sphere();
+  StationSettings s = press_settings();
+  s.fingers = {};
+  EXPECT_THROW(Station(sphere, s, std::make_unique<FakeGlove>(), nullptr), std::invalid_argument);
+  s.fingers = {{0, 1}, {0, 1}};
+  EXPECT_THROW(Station(sphere, s, std::make_unique<FakeGlove>(), nullptr), std::invalid_argument);
+  s.fingers = {{2, 1}};
+  EXPECT_THROW(Station(sphere, s, std::make_unique<FakeGlove>(), nullptr), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sculpt::rt

@@ -1,0 +1,227 @@
+// sculpt run: the station. Loads a scene, runs the fixed-rate loop until the duration, SIGINT
+// or SIGTERM, then writes the sculpted model and a JSON summary.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include "commands.hpp"
+#include "sculpt/deform/model_io.hpp"
+#include "sculpt/rt/fixed_rate_loop.hpp"
+#include "sculpt/rt/realtime_setup.hpp"
+#include "sculpt/rt/scene.hpp"
+#include "sculpt/rt/station_setup.hpp"
+
+namespace sculpt::tools {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+
+// What the status line shows, published by the loop with relaxed atomics: the loop never
+// prints, the status thread never touches the station.
+struct LiveStatus {
+  std::atomic<std::uint64_t> ticks{0}, overruns{0}, collisions{0}, region_points{0}, samples{0};
+  std::atomic<int> glove{0};
+};
+
+const char* glove_name(rt::GloveState s) {
+  switch (s) {
+    case rt::GloveState::kWaiting: return "waiting";
+    case rt::GloveState::kLive: return "live";
+    case rt::GloveState::kStale: return "stale";
+  }
+  return "?";
+}
+
+nlohmann::json histogram_json(const rt::LatencyHistogram& h) {
+  return {{"count", h.count()}, {"median_us", h.quantile(0.5) * 1e-3}, {"p99_us", h.quantile(0.99) * 1e-3},
+          {"max_us", static_cast<double>(h.max()) * 1e-3}};
+}
+
+class RunCommand final : public Command {
+ public:
+  explicit RunCommand(CLI::App& app) {
+    sub_ = app.add_subcommand("run", "Run the sculpting station on a scene");
+    sub_->add_option("scene", scene_path_, "Scene file (TOML)")->required();
+    sub_->add_option("--duration", duration_s_, "Stop after this many seconds (default: until SIGINT/SIGTERM)")
+        ->check(CLI::PositiveNumber);
+    sub_->add_option("--out", out_path_, "Write the final model here (overrides output.model)");
+    sub_->add_option("--json", json_path_, "Write the run summary here (overrides output.json)");
+    sub_->add_option("--serial", serial_device_, "Read the glove from this serial device (overrides glove.backend)");
+    sub_->add_option("--lcm", lcm_url_, "Read the glove from this LCM URL (overrides glove.backend)");
+    sub_->add_flag("--quiet", quiet_, "No live status line");
+  }
+  bool chosen() const override { return sub_->parsed(); }
+
+  int run() override {
+    rt::Scene scene;
+    try {
+      scene = rt::load_scene(scene_path_);
+    } catch (const std::exception& e) {
+      std::cerr << "sculpt run: error: " << e.what() << "\n";
+      return kExitUsage;
+    }
+    if (!serial_device_.empty()) {
+      scene.glove.config.backend = hal::Backend::kSerial;
+      scene.glove.config.serial.device = serial_device_;
+    }
+    if (!lcm_url_.empty()) {
+      scene.glove.config.backend = hal::Backend::kLcm;
+      scene.glove.config.lcm.url = lcm_url_;
+    }
+    try {
+      return run_station(scene);
+    } catch (const std::exception& e) {
+      std::cerr << "sculpt run: error: " << e.what() << "\n";
+      return kExitFailure;
+    }
+  }
+
+ private:
+  int run_station(const rt::Scene& scene) {
+    rt::StationSetup setup = rt::prepare_station(scene);
+    std::unique_ptr<rt::Station> station = rt::make_station(setup, scene);
+    std::printf("scene    %s\nmodel    %s: %zu points, normals %s, mean spacing %.4g\n", scene_path_.c_str(),
+                scene.model.path.c_str(), setup.model.size(), setup.normals_source.c_str(), setup.spacing);
+    for (const std::string& note : setup.notes) std::printf("default  %s\n", note.c_str());
+    if (setup.calibration) {
+      std::printf("register calibrated from %zu landmarks: rms residual %.4g, max %.4g\n",
+                  scene.registration.landmarks.size(), setup.calibration->rms_residual, setup.calibration->max_residual);
+    }
+    rt::RealtimeOptions rt_options;
+    rt_options.fifo = scene.loop.realtime;
+    rt_options.lock_memory = scene.loop.lock_memory;
+    rt_options.cpu = scene.loop.cpu;
+    for (const std::string& warning : rt::apply_realtime(rt_options)) {
+      std::fprintf(stderr, "warning  %s\n", warning.c_str());
+    }
+
+    struct sigaction action {};
+    action.sa_handler = on_signal;
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+    g_stop.store(false);
+
+    station->start();
+    rt::FixedRateLoop loop(scene.loop.rate_hz);
+    LiveStatus live;
+    std::atomic<bool> status_done{false};
+    std::thread status([&] { show_status(live, status_done, loop.rate_hz()); });
+
+    const std::int64_t period = loop.period_ns();
+    const std::int64_t start = rt::monotonic_now_ns();
+    const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
+    const std::uint64_t stats_overruns_at_start = 0;
+    loop.run(
+        [&](std::uint64_t, std::int64_t deadline) noexcept {
+          const std::int64_t now = rt::monotonic_now_ns();
+          const rt::TickReport& r = station->tick(now, deadline + period - now);
+          live.ticks.store(r.tick + 1, std::memory_order_relaxed);
+          live.overruns.store(loop.stats().overruns - stats_overruns_at_start, std::memory_order_relaxed);
+          live.collisions.fetch_add(r.collisions, std::memory_order_relaxed);
+          if (r.frame) live.region_points.store(r.region_points, std::memory_order_relaxed);
+          live.samples.fetch_add(r.samples, std::memory_order_relaxed);
+          live.glove.store(static_cast<int>(r.glove), std::memory_order_relaxed);
+          if (now >= end) g_stop.store(true, std::memory_order_release);
+        },
+        g_stop);
+    station->stop();
+    status_done.store(true);
+    status.join();
+
+    const std::string out = !out_path_.empty() ? out_path_ : scene.output.model.value_or("");
+    if (!out.empty()) deform::write_model(out, setup.model);
+    const nlohmann::json summary = make_summary(*station, loop);
+    const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
+    if (!json.empty()) {
+      std::ofstream file(json);
+      file << summary.dump(2) << "\n";
+      if (!file) throw std::runtime_error("cannot write " + json);
+    }
+    const rt::StationTotals& t = station->totals();
+    std::printf("\nresult   %llu ticks at %.1f Hz, %llu overruns, tick median %.1f us p99 %.1f us max %.1f us\n",
+                static_cast<unsigned long long>(loop.stats().ticks), loop.achieved_rate(),
+                static_cast<unsigned long long>(loop.stats().overruns), loop.stats().tick_time.quantile(0.5) * 1e-3,
+                loop.stats().tick_time.quantile(0.99) * 1e-3, static_cast<double>(loop.stats().tick_time.max()) * 1e-3);
+    std::printf("         %llu glove samples, %llu collision frames, %llu collisions\n",
+                static_cast<unsigned long long>(t.samples), static_cast<unsigned long long>(t.frames),
+                static_cast<unsigned long long>(t.collisions));
+    if (!out.empty()) std::printf("wrote    %s\n", out.c_str());
+    return kExitOk;
+  }
+
+  void show_status(const LiveStatus& live, const std::atomic<bool>& done, double rate) const {
+    const bool tty = isatty(STDOUT_FILENO) && !quiet_;
+    std::uint64_t last_ticks = 0;
+    auto last = std::chrono::steady_clock::now();
+    while (!done.load()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+      if (!tty) continue;
+      const auto now = std::chrono::steady_clock::now();
+      const double dt = std::chrono::duration<double>(now - last).count();
+      const std::uint64_t ticks = live.ticks.load();
+      std::printf("\r%7.1f/%.0f Hz  ticks %llu  overruns %llu  collisions %llu  region %llu pts  glove %s   ",
+                  static_cast<double>(ticks - last_ticks) / dt, rate, static_cast<unsigned long long>(ticks),
+                  static_cast<unsigned long long>(live.overruns.load()),
+                  static_cast<unsigned long long>(live.collisions.load()),
+                  static_cast<unsigned long long>(live.region_points.load()),
+                  glove_name(static_cast<rt::GloveState>(live.glove.load())));
+      std::fflush(stdout);
+      last_ticks = ticks;
+      last = now;
+    }
+  }
+
+  nlohmann::json make_summary(const rt::Station& station, const rt::FixedRateLoop& loop) const {
+    const rt::LoopStats& s = loop.stats();
+    const rt::StationTotals& t = station.totals();
+    nlohmann::json per_finger = nlohmann::json::array();
+    for (std::size_t i = 0; i < station.fingers().size(); ++i) {
+      const rt::FingerId id = station.settings().fingers[i];
+      per_finger.push_back({{"hand", id.hand}, {"finger", id.finger}, {"collisions", station.fingers()[i].collisions}});
+    }
+    const hal::SourceCounters c = station.glove_counters();
+    nlohmann::json faults = {{"crc_errors", c.crc_errors},       {"framing_errors", c.framing_errors},
+                             {"sequence_gaps", c.sequence_gaps}, {"overflows", c.overflows},
+                             {"disconnects", c.disconnects},     {"reconnects", c.reconnects},
+                             {"error_frames", c.error_frames},   {"bus_off", c.bus_off},
+                             {"stale_events", t.stale_events}};
+    return {{"scene", scene_path_},
+            {"rate_hz", loop.rate_hz()},
+            {"achieved_rate_hz", loop.achieved_rate()},
+            {"ticks", s.ticks},
+            {"overruns", s.overruns},
+            {"missed_periods", s.missed_periods},
+            {"tick_time", histogram_json(s.tick_time)},
+            {"wake_jitter", histogram_json(s.wake_jitter)},
+            {"glove_samples", c.samples},
+            {"samples_taken", t.samples},
+            {"stale_ticks", t.stale_ticks},
+            {"frames", t.frames},
+            {"collisions", t.collisions},
+            {"collisions_per_finger", per_finger},
+            {"max_region_points", t.max_region_points},
+            {"max_region_radius", t.max_region_radius},
+            {"faults", faults},
+            {"haptic_dropped", station.haptic() ? station.haptic()->dropped() : 0}};
+  }
+
+  CLI::App* sub_ = nullptr;
+  std::string scene_path_, out_path_, json_path_, serial_device_, lcm_url_;
+  double duration_s_ = 0.0;
+  bool quiet_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_run_command(CLI::App& app) { return std::make_unique<RunCommand>(app); }
+
+}  // namespace sculpt::tools
