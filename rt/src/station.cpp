@@ -1,22 +1,15 @@
 #include "sculpt/rt/station.hpp"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "sculpt/deform/model_scale.hpp"
+#include "sculpt/rt/fixed_rate_loop.hpp"
 
 namespace sculpt::rt {
 namespace {
-
-std::int64_t monotonic_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 deform::Vec3 to_vec3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 std::array<double, 3> to_array(const deform::Vec3& v) { return {v.x, v.y, v.z}; }
@@ -176,9 +169,9 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
   }
   if (probes_.empty()) return;
   size_region(budget_ns);
-  const std::int64_t start = monotonic_ns();
+  const std::int64_t start = monotonic_now_ns();
   const deform::FrameReport& frame = deformer_.deform(probes_);
-  report_.deform_ns = static_cast<double>(monotonic_ns() - start);
+  report_.deform_ns = static_cast<double>(monotonic_now_ns() - start);
   last_frame_ = &frame;
   report_.frame = true;
   report_.collisions = frame.collisions;

@@ -132,12 +132,12 @@ TEST(FixedRateLoop, ASlowTickIsOneOverrunWhosePeriodsAreSkippedOnPhase) {
       << "5 attempts, each with an overrun besides tick 3's: the machine is overloaded";
 }
 
-TEST(FixedRateLoop, OneSecondAtOneKilohertz) {
+TEST(FixedRateLoop, FiveSecondsAtOneKilohertz) {  // the issue asks for the rate over 5 s
   FixedRateLoop loop(1000.0);
   std::atomic<bool> stop{false};
   std::uint64_t calls = 0;
   std::thread stopper([&stop] {
-    std::this_thread::sleep_for(std::chrono::seconds(1));
+    std::this_thread::sleep_for(std::chrono::seconds(5));
     stop.store(true);
   });
   // On its own thread with 1 ns timer slack, as the station runs it without SCHED_FIFO.
@@ -154,7 +154,7 @@ TEST(FixedRateLoop, OneSecondAtOneKilohertz) {
   const LoopStats& s = loop.stats();
   const double rate = loop.achieved_rate();
   std::printf(
-      "1 kHz for 1 s (timer slack 1 ns): achieved %.1f Hz, %llu ticks, %llu overruns, %llu missed "
+      "1 kHz for 5 s (timer slack 1 ns): achieved %.1f Hz, %llu ticks, %llu overruns, %llu missed "
       "periods\n"
       "  wake-up lateness: median %.1f us, p99 %.1f us, max %.1f us, mean %.1f us\n"
       "  tick time:        median %.2f us, p99 %.2f us, max %.2f us\n",

@@ -115,5 +115,22 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty floa
 expect_exit 1 "truncated model" -- "$SCULPT" deform --model "$work/broken.ply" --contact 0,0,1.1:0,0,0.9
 one_line_error "truncated model names file and line" "broken.ply: line"
 
+# The station: a short run, then scene errors.
+scenes="$repo/scenes"
+expect_exit 0 "run sphere-press" -- "$SCULPT" run "$scenes/sphere-press.toml" --duration 1.5 --quiet \
+  --out "$work/run.ply" --json "$work/report.json"
+expect_json "run ticked and reported" "j['ticks'] > 500 and 'tick_time' in j and 'faults' in j and j['rate_hz'] == 1000"
+sed 's/^rate_hz = 80/ratee_hz = 80/' "$scenes/sphere-press.toml" > "$work/typo.toml"
+if grep -q ratee_hz "$work/typo.toml"; then
+  expect_exit 2 "scene with a typo" -- "$SCULPT" run "$work/typo.toml" --duration 1
+  one_line_error "typo named with its line" "typo.toml:[0-9]*:[0-9]*: glove.sim.ratee_hz: unknown key"
+else
+  bad "could not plant a typo in sphere-press.toml (rate_hz line changed?)"
+fi
+expect_exit 2 "missing scene" -- "$SCULPT" run "$work/none.toml"
+one_line_error "missing scene named" "none.toml"
+expect_exit 2 "glove-sim needs a transport" -- "$SCULPT" glove-sim "$scenes/sphere-press.toml"
+one_line_error "glove-sim says what it needs" "--serial"
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
