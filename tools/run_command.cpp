@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -28,7 +29,7 @@ extern "C" void on_signal(int) { g_stop.store(true); }
 // What the status line shows, published by the loop with relaxed atomics: the loop never
 // prints, the status thread never touches the station.
 struct LiveStatus {
-  std::atomic<std::uint64_t> ticks{0}, overruns{0}, collisions{0}, region_points{0}, samples{0};
+  std::atomic<std::uint64_t> ticks{0}, overruns{0}, collisions{0}, region_points{0}, samples{0}, deform_ns{0};
   std::atomic<int> glove{0};
 };
 
@@ -128,7 +129,10 @@ class RunCommand final : public Command {
           live.ticks.store(r.tick + 1, std::memory_order_relaxed);
           live.overruns.store(loop.stats().overruns - stats_overruns_at_start, std::memory_order_relaxed);
           live.collisions.fetch_add(r.collisions, std::memory_order_relaxed);
-          if (r.frame) live.region_points.store(r.region_points, std::memory_order_relaxed);
+          if (r.frame) {
+            live.region_points.store(r.region_points, std::memory_order_relaxed);
+            live.deform_ns.store(static_cast<std::uint64_t>(r.deform_ns), std::memory_order_relaxed);
+          }
           live.samples.fetch_add(r.samples, std::memory_order_relaxed);
           live.glove.store(static_cast<int>(r.glove), std::memory_order_relaxed);
           if (now >= end) g_stop.store(true, std::memory_order_release);
@@ -139,10 +143,14 @@ class RunCommand final : public Command {
     status.join();
 
     const std::string out = !out_path_.empty() ? out_path_ : scene.output.model.value_or("");
-    if (!out.empty()) deform::write_model(out, setup.model);
+    if (!out.empty()) {
+      create_parent(out);
+      deform::write_model(out, setup.model);
+    }
     const nlohmann::json summary = make_summary(*station, loop);
     const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
     if (!json.empty()) {
+      create_parent(json);
       std::ofstream file(json);
       file << summary.dump(2) << "\n";
       if (!file) throw std::runtime_error("cannot write " + json);
@@ -159,6 +167,11 @@ class RunCommand final : public Command {
     return kExitOk;
   }
 
+  static void create_parent(const std::string& path) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+  }
+
   void show_status(const LiveStatus& live, const std::atomic<bool>& done, double rate) const {
     const bool tty = isatty(STDOUT_FILENO) && !quiet_;
     std::uint64_t last_ticks = 0;
@@ -169,12 +182,12 @@ class RunCommand final : public Command {
       const auto now = std::chrono::steady_clock::now();
       const double dt = std::chrono::duration<double>(now - last).count();
       const std::uint64_t ticks = live.ticks.load();
-      std::printf("\r%7.1f/%.0f Hz  ticks %llu  overruns %llu  collisions %llu  region %llu pts  glove %s   ",
+      std::printf("\r%7.1f/%.0f Hz  ticks %llu  overruns %llu  collisions %llu  region %llu pts in %.0f us  glove %s   ",
                   static_cast<double>(ticks - last_ticks) / dt, rate, static_cast<unsigned long long>(ticks),
                   static_cast<unsigned long long>(live.overruns.load()),
                   static_cast<unsigned long long>(live.collisions.load()),
                   static_cast<unsigned long long>(live.region_points.load()),
-                  glove_name(static_cast<rt::GloveState>(live.glove.load())));
+                  static_cast<double>(live.deform_ns.load()) * 1e-3, glove_name(static_cast<rt::GloveState>(live.glove.load())));
       std::fflush(stdout);
       last_ticks = ticks;
       last = now;
@@ -211,6 +224,7 @@ class RunCommand final : public Command {
             {"collisions_per_finger", per_finger},
             {"max_region_points", t.max_region_points},
             {"max_region_radius", t.max_region_radius},
+            {"index_rebuilds", t.index_rebuilds},
             {"faults", faults},
             {"haptic_dropped", station.haptic() ? station.haptic()->dropped() : 0}};
   }

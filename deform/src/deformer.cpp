@@ -55,6 +55,13 @@ void Deformer::rebuild_index() {
   index_holds_base_ = false;
 }
 
+void Deformer::adopt_index(PointIndex& fresh, double drift_at_snapshot) noexcept {
+  std::swap(index_, fresh);
+  // Points moved since the snapshot by at most the displacements applied after it.
+  drift_ = std::max(0.0, drift_ - drift_at_snapshot);
+  index_holds_base_ = false;
+}
+
 double Deformer::set_region_radius(double radius) noexcept {
   region_.set_radius(radius);
   settings_.region.radius = region_.settings().radius;

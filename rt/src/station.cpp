@@ -65,7 +65,10 @@ Station::Station(deform::PointModel& model, StationSettings settings, std::uniqu
     : settings_(std::move(settings)),
       deformer_(model, prepared(settings_, model, haptic != nullptr)),
       glove_(std::move(glove)),
-      haptic_(std::move(haptic)) {
+      haptic_(std::move(haptic)),
+      rebuilder_(model.size()),
+      // Queries widen by the drift: past half the contact radius their candidate sets grow.
+      rebuild_drift_(0.5 * deformer_.settings().contact.bc_radius) {
   if (!glove_) throw std::invalid_argument("station: no glove source");
   inbox_.resize(256);
   fingers_.resize(settings_.fingers.size());
@@ -187,6 +190,7 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
     const double sample = report_.deform_ns / (static_cast<double>(frame.region_points) * frame.collisions);
     cost_per_point_force_ns_ = cost_per_point_force_ns_ > 0.0 ? 0.8 * cost_per_point_force_ns_ + 0.2 * sample : sample;
   }
+  if (deformer_.drift() > rebuild_drift_) rebuilder_.request(deformer_.model(), deformer_.drift());
   for (std::size_t k = 0; k < probes_.size(); ++k) {
     const deform::ContactReport& c = frame.contacts[k];
     FingerState& f = fingers_[probe_finger_[k]];
@@ -234,6 +238,7 @@ const TickReport& Station::tick(std::int64_t now_ns, std::int64_t budget_ns) noe
   report_ = TickReport{};
   report_.tick = totals_.ticks++;
   report_.budget_ns = budget_ns;
+  if (rebuilder_.install(deformer_)) ++totals_.index_rebuilds;
   take_samples(now_ns);
   const bool any = has_sample_[0] || has_sample_[1];
   const auto timeout_ns = static_cast<std::int64_t>(std::llround(settings_.glove_timeout_s * 1e9));

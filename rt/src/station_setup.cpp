@@ -45,6 +45,11 @@ void load_normals(StationSetup& s, const Scene& scene) {
 }  // namespace
 
 StationSetup prepare_station(const Scene& scene) {
+  if (scene.heuristic.reduced_ratio < 1.0) {
+    // Said rather than ignored: recording on a subsample needs the transfer of issue 4.
+    throw std::invalid_argument(scene.file + ": heuristic.reduced_ratio < 1 (the reduced model set) is not "
+                                "supported by this version of the station yet");
+  }
   StationSetup s;
   s.model = deform::read_model(scene.model.path);
   load_normals(s, scene);

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <deque>
+#include <thread>
 
 #include "sculpt/deform/generators.hpp"
 #include "support/allocation_counter.hpp"
@@ -152,6 +154,22 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
   EXPECT_EQ(r.glove, GloveState::kLive);
   EXPECT_EQ(r.collisions, 0u);
   EXPECT_EQ(sphere.z, held.z);
+
+  // The tree was rebuilt in the background: give the worker up to 2 s of real time, ticking,
+  // then check the queries are still exact against brute force on the deformed model.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  while (station.totals().index_rebuilds == 0 && std::chrono::steady_clock::now() < give_up) {
+    now += kMs;
+    station.tick(now, kBudget);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_GT(station.totals().index_rebuilds, 0u);
+  for (const deform::Vec3 q : {deform::Vec3{0, 0, 0.9}, deform::Vec3{0.1, 0.05, 1.1}, deform::Vec3{0, 0, 0.97}}) {
+    double best = 1e9;
+    for (std::size_t i = 0; i < sphere.size(); ++i) best = std::min(best, deform::norm(sphere.position(i) - q));
+    EXPECT_DOUBLE_EQ(station.deformer().index().nearest(sphere, q, station.deformer().drift()).distance, best);
+  }
+
 }
 
 TEST(Station, RejectsBadFingerLists) {

@@ -82,6 +82,10 @@ class Deformer {
   double drift() const { return drift_; }
   /// Rebuilds the k-d tree on the current positions (allocates: keep it off the real-time path).
   void rebuild_index();
+  /// Swaps in an index built elsewhere (off the real-time path) from a snapshot of the positions
+  /// taken when drift() was `drift_at_snapshot`; `fresh` receives the old index, for the caller
+  /// to destroy off the loop. noexcept and allocation-free.
+  void adopt_index(PointIndex& fresh, double drift_at_snapshot) noexcept;
   /// Undo to `base`, the model as it was when the deformer was built: copies its positions and
   /// normals back. The drift returns to zero when the index still holds that base; otherwise
   /// the index is rebuilt. Throws std::invalid_argument when `base` has another size or layout.

@@ -13,6 +13,7 @@
 #include "sculpt/hal/hand_model.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
 #include "sculpt/rt/dead_band.hpp"
+#include "sculpt/rt/index_rebuilder.hpp"
 #include "sculpt/rt/one_euro_filter.hpp"
 #include "sculpt/rt/similarity_transform.hpp"
 
@@ -80,6 +81,7 @@ struct StationTotals {
   std::uint64_t samples = 0;
   double max_region_radius = 0.0;
   std::size_t max_region_points = 0;
+  std::uint64_t index_rebuilds = 0;  ///< k-d trees rebuilt in the background and installed
 };
 
 /// Everything is allocated by the constructor; tick() allocates nothing, throws nothing and
@@ -141,6 +143,8 @@ class Station {
   const deform::FrameReport* last_frame_ = &empty_frame_;
   double cost_per_point_force_ns_ = 0.0;  // measured, exponentially averaged
   std::uint32_t haptic_tick_ = 0;
+  IndexRebuilder rebuilder_;
+  double rebuild_drift_;  // ask for a new tree once the drift passes this
 };
 
 }  // namespace sculpt::rt
