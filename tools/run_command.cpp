@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "station_recording.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/rt/fixed_rate_loop.hpp"
 #include "sculpt/rt/realtime_setup.hpp"
@@ -112,6 +113,10 @@ class RunCommand final : public Command {
     sigaction(SIGTERM, &action, nullptr);
     g_stop.store(false);
 
+    std::unique_ptr<Recording> recording = make_recording(scene);
+    rt::StationRecorder* recorder = recording ? recording->recorder() : nullptr;
+    station->set_recorder(recorder);
+    if (recording) recording->start();
     station->start();
     rt::FixedRateLoop loop(scene.loop.rate_hz);
     LiveStatus live;
@@ -126,6 +131,10 @@ class RunCommand final : public Command {
         [&](std::uint64_t, std::int64_t deadline) noexcept {
           const std::int64_t now = rt::monotonic_now_ns();
           const rt::TickReport& r = station->tick(now, deadline + period - now);
+          if (recorder) {
+            const rt::LoopStats& ls = loop.stats();
+            recorder->tick(r, ls.overruns, ls.missed_periods, static_cast<double>(rt::monotonic_now_ns() - now) * 1e-3);
+          }
           live.ticks.store(r.tick + 1, std::memory_order_relaxed);
           live.overruns.store(loop.stats().overruns - stats_overruns_at_start, std::memory_order_relaxed);
           live.collisions.fetch_add(r.collisions, std::memory_order_relaxed);
@@ -139,6 +148,7 @@ class RunCommand final : public Command {
         },
         g_stop);
     station->stop();
+    if (recording) recording->stop();  // drains and flushes: nothing recorded is lost
     status_done.store(true);
     status.join();
 
@@ -147,7 +157,8 @@ class RunCommand final : public Command {
       create_parent(out);
       deform::write_model(out, setup.model);
     }
-    const nlohmann::json summary = make_summary(*station, loop);
+    nlohmann::json summary = make_summary(*station, loop);
+    if (recording) summary["recording"] = nlohmann::json::parse(recording->summary_json());
     const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
     if (!json.empty()) {
       create_parent(json);

@@ -78,6 +78,7 @@ Station::Station(deform::PointModel& model, StationSettings settings, std::uniqu
   }
   probes_.reserve(settings_.fingers.size());
   probe_finger_.reserve(settings_.fingers.size());
+  probe_ids_.reserve(settings_.fingers.size());
 }
 
 Station::~Station() { stop(); }
@@ -101,6 +102,7 @@ void Station::take_samples(std::int64_t now_ns) noexcept {
       const hal::GloveSample& s = inbox_[i];
       if (s.hand >= hal::kHands) continue;
       newest_[s.hand] = s;
+      if (recorder_) recorder_->glove_sample(s);
       has_sample_[s.hand] = true;
       fresh_[s.hand] = true;
       last_sample_ns_ = std::max(last_sample_ns_, s.receive_time_ns);
@@ -141,6 +143,10 @@ void Station::update_fingers(std::int64_t) noexcept {
     f.registered = to_vec3(settings_.registration.apply(to_array(f.filtered)));
     track.accepted_this_tick = track.dead_band.offer(to_array(f.registered));
   }
+  if (recorder_ && (fresh_[0] || fresh_[1])) {
+    for (std::size_t i = 0; i < fingers_.size(); ++i) accepted_[i] = tracks_[i].accepted_this_tick;
+    recorder_->fingertips(report_.tick, settings_.fingers, fingers_, std::span(accepted_).first(fingers_.size()));
+  }
 }
 
 void Station::size_region(std::int64_t budget_ns) noexcept {
@@ -160,6 +166,7 @@ void Station::size_region(std::int64_t budget_ns) noexcept {
 void Station::run_frame(std::int64_t budget_ns) noexcept {
   probes_.clear();
   probe_finger_.clear();
+  probe_ids_.clear();
   for (std::size_t i = 0; i < fingers_.size(); ++i) {
     const DeadBand& band = tracks_[i].dead_band;
     if (band.history_size() == 0) continue;
@@ -169,9 +176,14 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
     if (band.history_size() >= 3) motion.earlier = to_vec3(band.earlier());
     probes_.push_back(motion);
     probe_finger_.push_back(i);
+    probe_ids_.push_back(settings_.fingers[i]);
   }
   if (probes_.empty()) return;
-  size_region(budget_ns);
+  if (static_cast<std::size_t>(frame_id_) < region_schedule_.size()) {
+    deformer_.set_region_radius(region_schedule_[static_cast<std::size_t>(frame_id_)]);
+  } else {
+    size_region(budget_ns);
+  }
   const std::int64_t start = monotonic_now_ns();
   const deform::FrameReport& frame = deformer_.deform(probes_);
   report_.deform_ns = static_cast<double>(monotonic_now_ns() - start);
@@ -190,6 +202,18 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
     const double sample = report_.deform_ns / (static_cast<double>(frame.region_points) * frame.collisions);
     cost_per_point_force_ns_ = cost_per_point_force_ns_ > 0.0 ? 0.8 * cost_per_point_force_ns_ + 0.2 * sample : sample;
   }
+  if (recorder_) {
+    FrameRecord record;
+    record.tick = report_.tick;
+    record.time_s = static_cast<double>(now_ns_ - first_tick_ns_) * 1e-9;
+    record.frame_id = frame_id_;
+    record.report = &frame;
+    record.settings = &deformer_.settings();
+    record.fingers = probe_ids_;
+    record.probes = probes_;
+    recorder_->frame(record);
+  }
+  ++frame_id_;
   if (deformer_.drift() > rebuild_drift_) rebuilder_.request(deformer_.model(), deformer_.drift());
   for (std::size_t k = 0; k < probes_.size(); ++k) {
     const deform::ContactReport& c = frame.contacts[k];
@@ -229,7 +253,10 @@ void Station::send_haptics() noexcept {
       const deform::Vec3& v = fingers_[i].haptic_force;
       command.force[id.finger] = {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
     }
-    if (acts) haptic_->send(command);
+    if (acts) {
+      haptic_->send(command);
+      if (recorder_) recorder_->haptic(command);
+    }
   }
   ++haptic_tick_;
 }
@@ -237,6 +264,8 @@ void Station::send_haptics() noexcept {
 const TickReport& Station::tick(std::int64_t now_ns, std::int64_t budget_ns) noexcept {
   report_ = TickReport{};
   report_.tick = totals_.ticks++;
+  now_ns_ = now_ns;
+  if (first_tick_ns_ < 0) first_tick_ns_ = now_ns;
   report_.budget_ns = budget_ns;
   if (rebuilder_.install(deformer_)) ++totals_.index_rebuilds;
   take_samples(now_ns);

@@ -7,6 +7,7 @@
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
 #include "sculpt/hal/backend_factory.hpp"
+#include "sculpt/rt/reduced_model.hpp"
 
 namespace sculpt::rt {
 namespace {
@@ -45,14 +46,17 @@ void load_normals(StationSetup& s, const Scene& scene) {
 }  // namespace
 
 StationSetup prepare_station(const Scene& scene) {
-  if (scene.heuristic.reduced_ratio < 1.0) {
-    // Said rather than ignored: recording on a subsample needs the transfer of issue 4.
-    throw std::invalid_argument(scene.file + ": heuristic.reduced_ratio < 1 (the reduced model set) is not "
-                                "supported by this version of the station yet");
-  }
   StationSetup s;
   s.model = deform::read_model(scene.model.path);
   load_normals(s, scene);
+  if (scene.heuristic.reduced_ratio < 1.0) {
+    // Thesis 4.4.1: sculpt a uniform-density subsample interactively; the log's collision events
+    // then apply to the full model offline (sculpt replay).
+    const std::size_t full = s.model.size();
+    s.model = reduced_model(s.model, scene.heuristic.reduced_ratio);
+    s.notes.push_back("reduced model set: " + std::to_string(s.model.size()) + " of " + std::to_string(full) +
+                      " points (heuristic.reduced_ratio)");
+  }
   s.spacing = deform::mean_spacing(s.model, deform::PointIndex(s.model));
 
   StationSettings& st = s.settings;

@@ -16,6 +16,7 @@
 #include "sculpt/rt/index_rebuilder.hpp"
 #include "sculpt/rt/one_euro_filter.hpp"
 #include "sculpt/rt/similarity_transform.hpp"
+#include "sculpt/rt/station_recorder.hpp"
 
 namespace sculpt::rt {
 
@@ -94,6 +95,11 @@ class Station {
 
   void start();
   void stop();
+  /// Reports samples, fingertips, frames and haptic commands to `recorder` (set-up; may be null).
+  void set_recorder(StationRecorder* recorder) { recorder_ = recorder; }
+  /// Replay: frame k uses radii[k] as its region radius instead of sizing it to the budget, so
+  /// a re-run reproduces the recorded session exactly. The span must outlive the station.
+  void set_region_schedule(std::span<const double> radii) { region_schedule_ = radii; }
 
   /// One tick at time `now_ns` (CLOCK_MONOTONIC) with `budget_ns` of the period left.
   const TickReport& tick(std::int64_t now_ns, std::int64_t budget_ns) noexcept;
@@ -144,6 +150,13 @@ class Station {
   double cost_per_point_force_ns_ = 0.0;  // measured, exponentially averaged
   std::uint32_t haptic_tick_ = 0;
   IndexRebuilder rebuilder_;
+  StationRecorder* recorder_ = nullptr;
+  std::span<const double> region_schedule_;
+  std::int64_t first_tick_ns_ = -1;
+  std::int64_t now_ns_ = 0;
+  std::int64_t frame_id_ = 0;
+  std::vector<FingerId> probe_ids_;                  // the finger of each probe, for the recorder
+  std::array<bool, deform::kMaxSources> accepted_{};  // per finger, this tick
   double rebuild_drift_;  // ask for a new tree once the drift passes this
 };
 

@@ -1,0 +1,278 @@
+#include "sculpt/logging/durable_log.hpp"
+
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+#include <type_traits>
+#include <utility>
+
+#include <unistd.h>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "sculpt/logging/channels.hpp"
+#include "sculpt/logging/glove_messages.hpp"
+
+namespace sculpt::logging {
+namespace {
+
+// Every sculpt_lcm message is fixed-size and well under this (the largest, glove_sample_t, is
+// 386 bytes with its fingerprint), so the thread encodes into one stack buffer.
+constexpr std::size_t kMaxEncodedSize = 1024;
+
+std::size_t index(LogKind kind) noexcept { return static_cast<std::size_t>(kind); }
+
+}  // namespace
+
+std::uint64_t DurableLog::Counters::written() const noexcept {
+  std::uint64_t sum = 0;
+  for (const auto& kind : kinds) sum += kind.written;
+  return sum;
+}
+
+std::uint64_t DurableLog::Counters::dropped() const noexcept {
+  std::uint64_t sum = 0;
+  for (const auto& kind : kinds) sum += kind.dropped;
+  return sum;
+}
+
+DurableLog::DurableLog(DurableLogConfig config)
+    : config_(std::move(config)),
+      queue_(config_.queue_capacity),
+      channels_{kGloveChannel, kFingertipChannel, kCollisionChannel, kTickChannel, kHapticChannel} {
+  static_assert(std::is_trivially_copyable_v<Entry>, "entries cross threads through SpscQueue");
+  static_assert(std::variant_size_v<Entry> == kLogKinds);
+  if (config_.path.empty()) throw std::runtime_error("DurableLog: empty log path");
+  const std::filesystem::path path(config_.path);
+  if (path.has_parent_path()) {
+    std::error_code error;
+    std::filesystem::create_directories(path.parent_path(), error);
+    if (error) {
+      throw std::runtime_error("DurableLog: cannot create folder '" + path.parent_path().string() +
+                               "' for '" + config_.path + "': " + error.message());
+    }
+  }
+  event_ = std::make_unique<lcm::LogEvent>();
+  errno = 0;
+  file_ = std::make_unique<lcm::LogFile>(config_.path, "w");
+  if (!file_->good()) {
+    const int saved = errno;
+    file_.reset();
+    throw std::runtime_error("DurableLog: cannot open '" + config_.path + "' for writing" +
+                             (saved != 0 ? std::string(": ") + std::strerror(saved) : std::string()));
+  }
+}
+
+DurableLog::~DurableLog() { stop(); }
+
+void DurableLog::start() {
+  if (thread_.joinable()) throw std::runtime_error("DurableLog: '" + config_.path + "' already started");
+  if (closed_.load(std::memory_order_acquire)) {
+    throw std::runtime_error("DurableLog: '" + config_.path + "' was stopped and is closed");
+  }
+  stop_requested_.store(false, std::memory_order_relaxed);
+  thread_ = std::thread([this] { run(); });
+}
+
+void DurableLog::stop() {
+  if (thread_.joinable()) {
+    stop_requested_.store(true, std::memory_order_release);
+    thread_.join();  // the thread drains the queue before it returns
+  }
+  if (closed_.exchange(true, std::memory_order_acq_rel)) return;
+  // Never started, or records slipped in after the thread's last drain: written here.
+  while (drain(queue_.capacity()) > 0) {
+  }
+  close();
+  // A flush_now() racing with stop() is served by the close above.
+  flushes_served_.store(UINT64_MAX, std::memory_order_release);
+}
+
+bool DurableLog::push(const Entry& entry, LogKind kind) noexcept {
+  if (!closed_.load(std::memory_order_relaxed) && queue_.push(entry)) return true;
+  dropped_[index(kind)].fetch_add(1, std::memory_order_relaxed);
+  return false;
+}
+
+bool DurableLog::record(const hal::GloveSample& sample, std::int64_t utime) noexcept {
+  return push(Entry(std::in_place_index<0>, StampedGlove{sample, utime}), LogKind::kGlove);
+}
+
+bool DurableLog::record(const FingertipRecord& record) noexcept {
+  return push(Entry(std::in_place_index<1>, record), LogKind::kFingertip);
+}
+
+bool DurableLog::record(const CollisionRecord& record) noexcept {
+  return push(Entry(std::in_place_index<2>, record), LogKind::kCollision);
+}
+
+bool DurableLog::record(const TickRecord& record) noexcept {
+  return push(Entry(std::in_place_index<3>, record), LogKind::kTick);
+}
+
+bool DurableLog::record(const hal::HapticCommand& command, std::int64_t utime) noexcept {
+  return push(Entry(std::in_place_index<4>, StampedHaptic{command, utime}), LogKind::kHaptic);
+}
+
+DurableLog::Counters DurableLog::counters() const noexcept {
+  Counters out;
+  for (std::size_t k = 0; k < kLogKinds; ++k) {
+    out.kinds[k].written = written_[k].load(std::memory_order_relaxed);
+    out.kinds[k].dropped = dropped_[k].load(std::memory_order_relaxed);
+  }
+  out.write_errors = write_errors_.load(std::memory_order_relaxed);
+  out.flushes = flushes_.load(std::memory_order_relaxed);
+  return out;
+}
+
+void DurableLog::flush_now() {
+  if (!thread_.joinable()) {
+    // No thread owns the file: do the work here (after stop() there is nothing left to do).
+    if (closed_.load(std::memory_order_acquire)) return;
+    while (drain(queue_.capacity()) > 0) {
+    }
+    flush(true);
+    return;
+  }
+  const std::uint64_t ticket = flush_requests_.fetch_add(1, std::memory_order_acq_rel) + 1;
+  // A short sleep rather than a condition variable: the writer serves requests within one
+  // poll period anyway, and this keeps the writer free of locks.
+  while (flushes_served_.load(std::memory_order_acquire) < ticket) {
+    std::this_thread::sleep_for(config_.poll_period / 4 + std::chrono::microseconds(1));
+  }
+}
+
+template <typename Message>
+void DurableLog::write_message(LogKind kind, std::int64_t utime, const Message& message) noexcept {
+  std::array<unsigned char, kMaxEncodedSize> buffer;
+  const int size = message.getEncodedSize();
+  const bool encoded = size > 0 && static_cast<std::size_t>(size) <= buffer.size() &&
+                       message.encode(buffer.data(), 0, size) == size;
+  if (!encoded || file_ == nullptr) {
+    write_errors_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  lcm::LogEvent& event = *event_;
+  event.eventnum = event_number_;
+  event.timestamp = utime;
+  event.channel = channels_[index(kind)];  // reuses the string's capacity: no allocation
+  event.datalen = size;
+  event.data = buffer.data();
+  // writeEvent returns 0 on success; a short write (disk full) leaves a truncated event,
+  // which EventLogReader reports and skips.
+  const int result = file_->writeEvent(&event);
+  event.data = nullptr;
+  if (result == 0) {
+    ++event_number_;
+    dirty_ = true;
+    written_[index(kind)].fetch_add(1, std::memory_order_relaxed);
+  } else {
+    write_errors_.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+void DurableLog::write(const Entry& entry) noexcept {
+  switch (entry.index()) {
+    case 0: {
+      const auto& glove = *std::get_if<0>(&entry);
+      sculpt_lcm::glove_sample_t message{};
+      to_lcm(glove.sample, glove.utime, message);
+      write_message(LogKind::kGlove, glove.utime, message);
+      break;
+    }
+    case 1: {
+      const auto& record = *std::get_if<1>(&entry);
+      sculpt_lcm::fingertip_state_t message{};
+      to_lcm(record, message);
+      write_message(LogKind::kFingertip, record.utime, message);
+      break;
+    }
+    case 2: {
+      const auto& record = *std::get_if<2>(&entry);
+      sculpt_lcm::collision_event_t message{};
+      to_lcm(record, message);
+      write_message(LogKind::kCollision, record.utime, message);
+      break;
+    }
+    case 3: {
+      const auto& record = *std::get_if<3>(&entry);
+      sculpt_lcm::tick_stats_t message{};
+      to_lcm(record, message);
+      write_message(LogKind::kTick, record.utime, message);
+      break;
+    }
+    case 4: {
+      const auto& haptic = *std::get_if<4>(&entry);
+      sculpt_lcm::haptic_command_t message{};
+      to_lcm(haptic.command, haptic.utime, message);
+      write_message(LogKind::kHaptic, haptic.utime, message);
+      break;
+    }
+    default:
+      write_errors_.fetch_add(1, std::memory_order_relaxed);
+      break;
+  }
+}
+
+std::size_t DurableLog::drain(std::size_t limit) noexcept {
+  std::size_t count = 0;
+  while (count < limit && queue_.pop(scratch_)) {
+    write(scratch_);
+    ++count;
+  }
+  return count;
+}
+
+void DurableLog::flush(bool sync) noexcept {
+  if (file_ == nullptr) return;
+  std::FILE* f = file_->getFilePtr();
+  if (std::fflush(f) != 0) write_errors_.fetch_add(1, std::memory_order_relaxed);
+  // fsync only on explicit requests and at close: it can take milliseconds on a busy disk,
+  // and the periodic flush already survives a crash of this process (not of the machine).
+  if (sync && ::fsync(::fileno(f)) != 0 && errno != EINVAL && errno != EROFS) {
+    write_errors_.fetch_add(1, std::memory_order_relaxed);
+  }
+  dirty_ = false;
+  flushes_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void DurableLog::close() noexcept {
+  if (file_ == nullptr) return;
+  flush(true);
+  file_.reset();  // lcm_eventlog_destroy closes the FILE
+}
+
+void DurableLog::run() noexcept {
+  auto last_flush = std::chrono::steady_clock::now();
+  // Drain in batches so a producer faster than the disk cannot starve flushes and requests.
+  const std::size_t batch = queue_.capacity();
+  for (;;) {
+    const bool stopping = stop_requested_.load(std::memory_order_acquire);
+    const std::uint64_t requested = flush_requests_.load(std::memory_order_acquire);
+    const std::size_t written = drain(batch);
+    if (requested > flushes_served_.load(std::memory_order_relaxed)) {
+      // Everything queued before the request is in front of what drain() may have left.
+      while (drain(batch) > 0) {
+      }
+      flush(true);
+      last_flush = std::chrono::steady_clock::now();
+      flushes_served_.store(requested, std::memory_order_release);
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (dirty_ && now - last_flush >= config_.flush_interval) {
+      flush(false);
+      last_flush = now;
+    }
+    if (stopping) break;
+    if (written == 0) std::this_thread::sleep_for(config_.poll_period);
+  }
+  // What the loop queued before stop() is written: stop() closes the file after the join.
+  while (drain(batch) > 0) {
+  }
+}
+
+}  // namespace sculpt::logging

@@ -1,0 +1,384 @@
+// DurableLog end to end: records in, an LCM log file out, read back by EventLogReader, by
+// LCM's own reader (lcm::LogFile) and replayed by lcm-logplayer onto loopback multicast.
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "sculpt/logging/channels.hpp"
+#include "sculpt/logging/durable_log.hpp"
+#include "sculpt/logging/event_log_reader.hpp"
+#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/logging/records.hpp"
+#include "sculpt_lcm/collision_event_t.hpp"
+#include "sculpt_lcm/glove_sample_t.hpp"
+#include "sculpt_lcm/tick_stats_t.hpp"
+
+namespace sculpt::logging {
+namespace {
+
+std::string temp_path(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("sculpt_durable_test_" + std::to_string(::getpid()));
+  return (dir / name).string();
+}
+
+CollisionRecord make_collision(std::int64_t i, std::int64_t utime) {
+  CollisionRecord r;
+  r.utime = utime;
+  r.tick = i;
+  r.time_s = 0.001 * static_cast<double>(i);
+  r.hand = static_cast<std::uint8_t>(i % 2);
+  r.finger = static_cast<std::uint8_t>(i % 5);
+  r.mode = i % 3 == 0 ? CollisionMode::kPull : CollisionMode::kPush;
+  const double x = static_cast<double>(i);
+  r.probe = {x, -x, 0.5 * x};
+  r.contact_index = static_cast<std::int32_t>(i * 7);
+  r.contact = {x + 0.25, 1.0, -2.0};
+  r.source = {x - 0.5, 2.0, 3.0};
+  r.force = {0.125 * x, -0.5, 1e-3};
+  r.weights = {1.0, 2.0 + x, 3.0};
+  r.effective_force = {0.5, 0.25, x};
+  r.bc_radius = 0.01 * x;
+  r.region_kind = static_cast<RegionKind>(i % 3);
+  r.region_centre = {1.0, 2.0, x};
+  r.region_radius = 0.2;
+  r.region_id = static_cast<std::int32_t>(i % 11) - 1;
+  r.kernel = i % 2 == 0 ? KernelKind::kKelvin : KernelKind::kRegularized;
+  r.kernel_eps = 1e-4;
+  r.shear_modulus = 1000.0 + x;
+  r.poisson_ratio = 0.3;
+  r.form = i % 2 == 0 ? ForceForm::kScale : ForceForm::kForce;
+  r.residual = 1e-9 * x;
+  r.condition = 10.0 + x;
+  r.frame_id = i / 2;
+  r.frame_size = static_cast<std::uint8_t>(1 + i % 2);
+  return r;
+}
+
+void expect_same(const CollisionRecord& a, const CollisionRecord& b) {
+  EXPECT_EQ(a.utime, b.utime);
+  EXPECT_EQ(a.tick, b.tick);
+  EXPECT_EQ(a.time_s, b.time_s);
+  EXPECT_EQ(a.hand, b.hand);
+  EXPECT_EQ(a.finger, b.finger);
+  EXPECT_EQ(a.mode, b.mode);
+  EXPECT_EQ(a.probe, b.probe);
+  EXPECT_EQ(a.contact_index, b.contact_index);
+  EXPECT_EQ(a.contact, b.contact);
+  EXPECT_EQ(a.source, b.source);
+  EXPECT_EQ(a.force, b.force);
+  EXPECT_EQ(a.weights, b.weights);
+  EXPECT_EQ(a.effective_force, b.effective_force);
+  EXPECT_EQ(a.bc_radius, b.bc_radius);
+  EXPECT_EQ(a.region_kind, b.region_kind);
+  EXPECT_EQ(a.region_centre, b.region_centre);
+  EXPECT_EQ(a.region_radius, b.region_radius);
+  EXPECT_EQ(a.region_id, b.region_id);
+  EXPECT_EQ(a.kernel, b.kernel);
+  EXPECT_EQ(a.kernel_eps, b.kernel_eps);
+  EXPECT_EQ(a.shear_modulus, b.shear_modulus);
+  EXPECT_EQ(a.poisson_ratio, b.poisson_ratio);
+  EXPECT_EQ(a.form, b.form);
+  EXPECT_EQ(a.residual, b.residual);
+  EXPECT_EQ(a.condition, b.condition);
+  EXPECT_EQ(a.frame_id, b.frame_id);
+  EXPECT_EQ(a.frame_size, b.frame_size);
+}
+
+hal::GloveSample make_glove(std::uint32_t sequence) {
+  hal::GloveSample s;
+  s.hand = static_cast<std::uint8_t>(sequence % 2);
+  s.sequence = sequence;
+  s.device_time_us = 1000u * sequence;
+  for (std::size_t j = 0; j < hal::kJointPoints; ++j) {
+    s.joints[j] = {static_cast<float>(j), static_cast<float>(sequence), -1.0f};
+  }
+  return s;
+}
+
+/// What a session records: ticks, with a collision every fifth, a glove sample every tenth,
+/// a fingertip every 50th and a haptic command every 100th, in that order within a tick.
+struct Session {
+  std::vector<std::string> channels;  // expected order in the file
+  std::vector<std::int64_t> utimes;
+  std::vector<CollisionRecord> collisions;
+};
+
+Session record_session(DurableLog& log, std::int64_t ticks, std::int64_t base_utime, std::int64_t step_us) {
+  Session session;
+  auto add = [&](const char* channel, std::int64_t utime) {
+    session.channels.emplace_back(channel);
+    session.utimes.push_back(utime);
+  };
+  for (std::int64_t i = 0; i < ticks; ++i) {
+    const std::int64_t utime = base_utime + i * step_us;
+    if (i % 10 == 0) {
+      EXPECT_TRUE(log.record(make_glove(static_cast<std::uint32_t>(i)), utime));
+      add(kGloveChannel, utime);
+    }
+    if (i % 50 == 0) {
+      FingertipRecord tip;
+      tip.utime = utime;
+      tip.tick = i;
+      tip.finger = 1;
+      EXPECT_TRUE(log.record(tip));
+      add(kFingertipChannel, utime);
+    }
+    if (i % 5 == 0) {
+      const CollisionRecord hit = make_collision(i, utime);
+      EXPECT_TRUE(log.record(hit));
+      session.collisions.push_back(hit);
+      add(kCollisionChannel, utime);
+    }
+    TickRecord tick;
+    tick.utime = utime;
+    tick.tick = i;
+    tick.collisions = i % 5 == 0 ? 1 : 0;
+    EXPECT_TRUE(log.record(tick));
+    add(kTickChannel, utime);
+    if (i % 100 == 0) {
+      hal::HapticCommand command;
+      command.tick = static_cast<std::uint32_t>(i);
+      command.active_mask = 1;
+      EXPECT_TRUE(log.record(command, utime));
+      add(kHapticChannel, utime);
+    }
+  }
+  return session;
+}
+
+TEST(DurableLog, WritesEveryRecordInOrderAndRoundTripsCollisions) {
+  const std::string path = temp_path("session/run.lcmlog");  // the folder does not exist yet
+  std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+  DurableLogConfig config;
+  config.path = path;
+  config.flush_interval = std::chrono::milliseconds(5);
+  Session session;
+  {
+    DurableLog log(config);
+    log.start();
+    session = record_session(log, 5000, 1'700'000'000'000'000, 1000);
+    log.stop();
+    const auto counters = log.counters();
+    EXPECT_EQ(counters[LogKind::kCollision].written, 1000u);
+    EXPECT_EQ(counters[LogKind::kTick].written, 5000u);
+    EXPECT_EQ(counters[LogKind::kGlove].written, 500u);
+    EXPECT_EQ(counters[LogKind::kFingertip].written, 100u);
+    EXPECT_EQ(counters[LogKind::kHaptic].written, 50u);
+    EXPECT_EQ(counters.dropped(), 0u);
+    EXPECT_EQ(counters.write_errors, 0u);
+    EXPECT_GE(counters.flushes, 1u);
+    log.stop();  // idempotent
+  }
+
+  EventLogReader reader(path);
+  LogEvent event;
+  std::map<std::string, std::size_t> per_channel;
+  std::size_t n = 0, collision = 0;
+  EventLogReader::Result result;
+  while ((result = reader.next(event)) == EventLogReader::Result::kEvent) {
+    ASSERT_LT(n, session.channels.size());
+    ASSERT_EQ(event.channel, session.channels[n]) << "event " << n;
+    ASSERT_EQ(event.utime, session.utimes[n]) << "event " << n;
+    EXPECT_EQ(event.number, static_cast<std::int64_t>(n));
+    ++per_channel[event.channel];
+    std::string error;
+    if (event.channel == kCollisionChannel) {
+      sculpt_lcm::collision_event_t message{};
+      ASSERT_TRUE(decode(event, message, error)) << error;
+      CollisionRecord back;
+      ASSERT_TRUE(from_lcm(message, back));
+      expect_same(back, session.collisions[collision++]);
+    } else if (event.channel == kGloveChannel) {
+      sculpt_lcm::glove_sample_t message{};
+      ASSERT_TRUE(decode(event, message, error)) << error;
+      hal::GloveSample back;
+      ASSERT_TRUE(from_lcm(message, back));
+      EXPECT_EQ(back.sequence * 1000u, back.device_time_us);
+    }
+    ++n;
+  }
+  EXPECT_EQ(result, EventLogReader::Result::kEnd) << reader.error();
+  EXPECT_EQ(n, session.channels.size());
+  EXPECT_EQ(per_channel[kCollisionChannel], 1000u);
+  EXPECT_EQ(per_channel[kTickChannel], 5000u);
+  EXPECT_EQ(per_channel[kGloveChannel], 500u);
+  EXPECT_EQ(per_channel[kFingertipChannel], 100u);
+  EXPECT_EQ(per_channel[kHapticChannel], 50u);
+  EXPECT_EQ(reader.skipped_bytes(), 0u);
+
+  // LCM's own reader agrees, event for event.
+  lcm::LogFile lcm_log(path, "r");
+  ASSERT_TRUE(lcm_log.good());
+  std::size_t lcm_count = 0;
+  while (const lcm::LogEvent* e = lcm_log.readNextEvent()) {
+    ASSERT_LT(lcm_count, session.channels.size());
+    EXPECT_EQ(e->channel, session.channels[lcm_count]);
+    EXPECT_EQ(e->timestamp, session.utimes[lcm_count]);
+    ++lcm_count;
+  }
+  EXPECT_EQ(lcm_count, session.channels.size());
+}
+
+TEST(DurableLog, FullQueueIsACountedDropAndStopWritesWhatWasQueued) {
+  DurableLogConfig config;
+  config.path = temp_path("full.lcmlog");
+  config.queue_capacity = 4;
+  DurableLog log(config);  // not started: nothing drains the queue
+  TickRecord tick;
+  int accepted = 0;
+  for (int i = 0; i < 10; ++i) {
+    tick.tick = i;
+    tick.utime = 100 + i;
+    accepted += log.record(tick) ? 1 : 0;
+  }
+  CollisionRecord hit;
+  EXPECT_FALSE(log.record(hit));
+  EXPECT_EQ(accepted, 4);
+  auto counters = log.counters();
+  EXPECT_EQ(counters[LogKind::kTick].dropped, 6u);
+  EXPECT_EQ(counters[LogKind::kCollision].dropped, 1u);
+  EXPECT_EQ(counters.written(), 0u);
+  log.stop();  // never started: stop writes the queue itself
+  counters = log.counters();
+  EXPECT_EQ(counters[LogKind::kTick].written, 4u);
+  EXPECT_FALSE(log.record(tick));  // closed
+  EXPECT_EQ(log.counters()[LogKind::kTick].dropped, 7u);
+  EXPECT_THROW(log.start(), std::runtime_error);
+
+  EventLogReader reader(config.path);
+  LogEvent event;
+  for (std::int64_t i = 0; i < 4; ++i) {
+    ASSERT_EQ(reader.next(event), EventLogReader::Result::kEvent);
+    EXPECT_EQ(event.utime, 100 + i);
+  }
+  EXPECT_EQ(reader.next(event), EventLogReader::Result::kEnd);
+}
+
+TEST(DurableLog, FlushNowMakesRecordsReadableWhileTheLogIsOpen) {
+  DurableLogConfig config;
+  config.path = temp_path("flush.lcmlog");
+  config.flush_interval = std::chrono::hours(1);  // only flush_now flushes
+  DurableLog log(config);
+  log.start();
+  EXPECT_THROW(log.start(), std::runtime_error);
+  TickRecord tick;
+  for (int i = 0; i < 3; ++i) {
+    tick.tick = i;
+    ASSERT_TRUE(log.record(tick));
+  }
+  log.flush_now();
+  EXPECT_EQ(log.counters()[LogKind::kTick].written, 3u);
+  EXPECT_GE(log.counters().flushes, 1u);
+  {
+    EventLogReader reader(config.path);
+    LogEvent event;
+    int count = 0;
+    while (reader.next(event) == EventLogReader::Result::kEvent) ++count;
+    EXPECT_EQ(count, 3);
+    EXPECT_EQ(reader.corrupt_events(), 0u);
+  }
+  log.stop();
+}
+
+TEST(DurableLog, PeriodicFlushReachesTheFileWithoutStop) {
+  DurableLogConfig config;
+  config.path = temp_path("periodic.lcmlog");
+  config.flush_interval = std::chrono::milliseconds(10);
+  DurableLog log(config);
+  log.start();
+  TickRecord tick;
+  ASSERT_TRUE(log.record(tick));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  std::uintmax_t size = 0;
+  while (size == 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    size = std::filesystem::file_size(config.path);
+  }
+  EXPECT_GT(size, 0u);
+  log.stop();
+}
+
+TEST(DurableLog, UnwritablePathThrowsNamingIt) {
+  const std::string blocker = temp_path("blocker");
+  std::filesystem::create_directories(std::filesystem::path(blocker).parent_path());
+  std::ofstream(blocker) << "a file, not a folder";
+  DurableLogConfig config;
+  config.path = blocker + "/sub/run.lcmlog";
+  try {
+    DurableLog log(config);
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(config.path), std::string::npos) << e.what();
+  }
+}
+
+// lcm-logplayer replays the file onto loopback multicast; a raw subscriber counts what arrives.
+TEST(DurableLog, LcmLogplayerReplaysTheFile) {
+  if (std::system("command -v lcm-logplayer > /dev/null 2>&1") != 0) GTEST_SKIP() << "lcm-logplayer not installed";
+  DurableLogConfig config;
+  config.path = temp_path("replay.lcmlog");
+  Session session;
+  {
+    DurableLog log(config);
+    log.start();
+    // 200 ticks 1 ms apart: about 0.2 s of playback, slow enough that loopback drops nothing.
+    session = record_session(log, 200, 1'700'000'000'000'000, 1000);
+    log.stop();
+  }
+  const std::string url = "udpm://239.255.76.67:" + std::to_string(20000 + ::getpid() % 20000) + "?ttl=0";
+  lcm::LCM lcm(url);
+  if (!lcm.good()) GTEST_SKIP() << "cannot open " << url;
+  struct Counts {
+    std::map<std::string, std::size_t> by_channel;
+    std::size_t total = 0;
+  } counts;
+  lcm.subscribeFunction(
+      "SCULPT_(GLOVE|FINGERTIP|COLLISION|TICK|HAPTIC)",
+      +[](const lcm::ReceiveBuffer*, const std::string& channel, Counts* c) {
+        ++c->by_channel[channel];
+        ++c->total;
+      },
+      &counts);
+  // Probe: does multicast loop back here at all?
+  bool probed = false;
+  lcm.subscribeFunction(
+      "SCULPT_PROBE", +[](const lcm::ReceiveBuffer*, const std::string&, bool* seen) { *seen = true; }, &probed);
+  const std::uint8_t probe_byte = 0;
+  for (int i = 0; i < 10 && !probed; ++i) {
+    lcm.publish("SCULPT_PROBE", &probe_byte, 1);
+    lcm.handleTimeout(50);
+  }
+  if (!probed) GTEST_SKIP() << "multicast on " << url << " does not loop back here";
+
+  const std::string command = "lcm-logplayer -l '" + url + "' '" + config.path + "' > /dev/null 2>&1";
+  std::thread player([&] { EXPECT_EQ(std::system(command.c_str()), 0); });
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (counts.total < session.channels.size() && std::chrono::steady_clock::now() < deadline) lcm.handleTimeout(20);
+  player.join();
+  while (lcm.handleTimeout(50) > 0) {
+  }
+  EXPECT_EQ(counts.total, session.channels.size());
+  EXPECT_EQ(counts.by_channel[kTickChannel], 200u);
+  EXPECT_EQ(counts.by_channel[kCollisionChannel], 40u);
+  EXPECT_EQ(counts.by_channel[kGloveChannel], 20u);
+  EXPECT_EQ(counts.by_channel[kFingertipChannel], 4u);
+  EXPECT_EQ(counts.by_channel[kHapticChannel], 2u);
+}
+
+}  // namespace
+}  // namespace sculpt::logging
