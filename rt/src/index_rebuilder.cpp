@@ -36,21 +36,25 @@ bool IndexRebuilder::install(deform::Deformer& deformer) noexcept {
 }
 
 void IndexRebuilder::work() {
+  // Every transition the worker makes is a compare-and-swap, so a kQuit stored by the
+  // destructor at any moment is never overwritten (it was, and the join hung).
   for (;;) {
     state_.wait(kIdle);
-    const int s = state_.load(std::memory_order_acquire);
+    int s = state_.load(std::memory_order_acquire);
     if (s == kQuit) return;
     if (s == kRequested) {
       fresh_.rebuild(snapshot_);  // allocates: that is why it happens here
-      state_.store(kReady, std::memory_order_release);
+      int expected = kRequested;
+      if (!state_.compare_exchange_strong(expected, kReady, std::memory_order_acq_rel)) return;  // quit
       state_.wait(kReady);
-      if (state_.load() == kQuit) return;
+      s = state_.load(std::memory_order_acquire);
+      if (s == kQuit) return;
     }
-    if (state_.load(std::memory_order_acquire) == kRetire) {
+    if (s == kRetire) {
       fresh_ = deform::PointIndex();
-      state_.store(kIdle, std::memory_order_release);
+      int expected = kRetire;
+      if (!state_.compare_exchange_strong(expected, kIdle, std::memory_order_acq_rel)) return;  // quit
     }
   }
 }
-
 }  // namespace sculpt::rt
