@@ -23,10 +23,9 @@
 #include <vector>
 
 #include "../../hal/src/cobs.hpp"
+#include "child_process.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/hal/frame_codec.hpp"
-
-extern char** environ;
 
 namespace sculpt {
 namespace {
@@ -37,45 +36,7 @@ using Clock = std::chrono::steady_clock;
 const std::string kSculpt = SCULPT_BINARY;
 const std::string kScene = std::string(SCULPT_SOURCE_DIR) + "/scenes/sphere-press.toml";
 
-class Process {
- public:
-  explicit Process(const std::vector<std::string>& args, const std::string& log) {
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    if (posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
-  }
-  ~Process() {
-    if (pid_ > 0 && !exited_) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
-  bool started() const { return pid_ > 0; }
-  /// Exit code, or -1 if it had to be killed after `limit`.
-  int wait(std::chrono::seconds limit) {
-    const auto end = Clock::now() + limit;
-    int status = 0;
-    while (Clock::now() < end) {
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        exited_ = true;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-  bool exited_ = false;
-};
+using Process = test::ChildProcess;
 
 struct Pty {
   int master = -1;
@@ -264,22 +225,11 @@ TEST(HardwareInTheLoop, SigtermEndsTheRunCleanly) {
   const fs::path dir = fs::temp_directory_path() / ("sculpt-hil-term-" + std::to_string(getpid()));
   fs::create_directories(dir);
   const std::string json = (dir / "run.json").string(), out = (dir / "out.ply").string();
-  std::vector<std::string> args = {kSculpt, "run", kScene, "--json", json, "--out", out, "--quiet"};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, (dir / "run.log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  ASSERT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
+  Process station({kSculpt, "run", kScene, "--json", json, "--out", out, "--quiet"}, (dir / "run.log").string());
+  ASSERT_TRUE(station.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-  kill(pid, SIGTERM);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal instead of ending cleanly";
-  EXPECT_EQ(WEXITSTATUS(status), 0);
+  station.signal(SIGTERM);
+  EXPECT_EQ(station.wait(std::chrono::seconds(20)), 0) << "not a clean exit: " << read_file((dir / "run.log").string());
   const nlohmann::json r = nlohmann::json::parse(read_file(json));
   EXPECT_GT(r["ticks"].get<int>(), 500);
   EXPECT_EQ(deform::read_model(out).size(), 3203u);

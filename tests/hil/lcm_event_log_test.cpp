@@ -19,10 +19,9 @@
 #include <thread>
 #include <vector>
 
+#include "child_process.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
-
-extern char** environ;
 
 namespace sculpt {
 namespace {
@@ -32,26 +31,6 @@ namespace fs = std::filesystem;
 std::string slurp(const fs::path& p) {
   std::ifstream in(p);
   return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = -1;
-  posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  return pid;
-}
-
-int finish(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 std::map<std::string, std::size_t> count_channels(const fs::path& path) {
@@ -100,14 +79,14 @@ TEST_F(EventLogHil, EveryCollisionIsInTheDurableLogAndOnTheLiveChannel) {
   const std::string url = unique_url(0);
   const fs::path scene = scene_in(dir_, "sphere-squeeze", "[lcm]\npublish = true\nurl = \"" + url + "\"");
   const fs::path live = dir_ / "live.lcmlog";
-  const pid_t logger = spawn({"lcm-logger", "--lcm-url=" + url, "-f", "-q", live.string()}, dir_ / "logger.txt");
-  ASSERT_GT(logger, 0);
+  test::ChildProcess logger({"lcm-logger", "--lcm-url=" + url, "-f", "-q", live.string()}, dir_ / "logger.txt");
+  ASSERT_TRUE(logger.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(700));  // a late subscriber misses messages
-  const pid_t run = spawn({SCULPT_BINARY, "run", scene.string(), "--duration", "5", "--quiet"}, dir_ / "run.txt");
-  ASSERT_EQ(finish(run), 0) << slurp(dir_ / "run.txt");
+  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "5", "--quiet"}, dir_ / "run.txt");
+  ASSERT_EQ(run.wait(), 0) << slurp(dir_ / "run.txt");
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  kill(logger, SIGINT);
-  finish(logger);
+  logger.signal(SIGINT);
+  logger.wait();
 
   const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "sphere-squeeze.json"));
   const std::size_t collisions = r["collisions"].get<std::size_t>();
@@ -125,8 +104,8 @@ TEST_F(EventLogHil, EveryCollisionIsInTheDurableLogAndOnTheLiveChannel) {
 
 TEST_F(EventLogHil, AMinuteOfFiveFingersAtOneKilohertzLosesNothing) {
   const fs::path scene = scene_in(dir_, "sphere-five", "");
-  const pid_t run = spawn({SCULPT_BINARY, "run", scene.string(), "--duration", "60", "--quiet"}, dir_ / "run.txt");
-  ASSERT_EQ(finish(run), 0) << slurp(dir_ / "run.txt");
+  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "60", "--quiet"}, dir_ / "run.txt");
+  ASSERT_EQ(run.wait(std::chrono::seconds(180)), 0) << slurp(dir_ / "run.txt");
   const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "sphere-five.json"));
   const auto& log = r["recording"]["log"];
   std::printf("[ log ] 60 s: %s\n", r["recording"].dump().c_str());
@@ -141,22 +120,22 @@ TEST_F(EventLogHil, AMinuteOfFiveFingersAtOneKilohertzLosesNothing) {
 
 TEST_F(EventLogHil, StockLogplayerDrivesTheStationThroughItsLcmBackend) {
   const fs::path scene = scene_in(dir_, "sphere-press", "");
-  const pid_t record = spawn({SCULPT_BINARY, "run", scene.string(), "--duration", "4", "--quiet"}, dir_ / "record.txt");
-  ASSERT_EQ(finish(record), 0) << slurp(dir_ / "record.txt");
+  test::ChildProcess record({SCULPT_BINARY, "run", scene.string(), "--duration", "4", "--quiet"}, dir_ / "record.txt");
+  ASSERT_EQ(record.wait(), 0) << slurp(dir_ / "record.txt");
   const nlohmann::json recorded = nlohmann::json::parse(slurp(dir_ / "sphere-press.json"));
   // The playback run writes its own log at the scene's path: play a copy of the recording.
   fs::copy_file(dir_ / "sphere-press.lcmlog", dir_ / "recorded.lcmlog");
 
   const std::string url = unique_url(1);
-  const pid_t run = spawn({SCULPT_BINARY, "run", scene.string(), "--lcm", url, "--duration", "7", "--quiet",
+  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--lcm", url, "--duration", "7", "--quiet",
                            "--json", (dir_ / "played.json").string(), "--out", (dir_ / "played.ply").string()},
                           dir_ / "run.txt");
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
-  const pid_t player = spawn({"lcm-logplayer", "--lcm-url=" + url, (dir_ / "recorded.lcmlog").string()},
-                             dir_ / "player.txt");
-  ASSERT_GT(player, 0);
-  EXPECT_EQ(finish(player), 0) << slurp(dir_ / "player.txt");
-  ASSERT_EQ(finish(run), 0) << slurp(dir_ / "run.txt");
+  test::ChildProcess player({"lcm-logplayer", "--lcm-url=" + url, (dir_ / "recorded.lcmlog").string()},
+                            dir_ / "player.txt");
+  ASSERT_TRUE(player.started());
+  EXPECT_EQ(player.wait(), 0) << slurp(dir_ / "player.txt");
+  ASSERT_EQ(run.wait(), 0) << slurp(dir_ / "run.txt");
   const nlohmann::json played = nlohmann::json::parse(slurp(dir_ / "played.json"));
   std::printf("[ log ] recorded %d samples and %d collisions; played back: %d samples, %d collisions\n",
               recorded["samples_taken"].get<int>(), recorded["collisions"].get<int>(),
