@@ -37,16 +37,7 @@ void drain_eventfd(int fd) noexcept {
 
 SerialGloveSource::SerialGloveSource(const SerialConfig& config, std::size_t queue_capacity)
     : config_(config), queue_(queue_capacity == 0 ? 2 : queue_capacity) {
-  if (config_.device.empty()) throw std::invalid_argument("serial glove: device path is empty");
-  if (!SerialPort::is_standard_baud(config_.baud)) {
-    throw std::invalid_argument("serial glove " + config_.device + ": baud " +
-                                std::to_string(config_.baud) +
-                                " is not a standard rate (e.g. 115200, 921600, 1000000)");
-  }
-  if (!std::isfinite(config_.reconnect_interval_ms) || config_.reconnect_interval_ms <= 0.0) {
-    throw std::invalid_argument("serial glove " + config_.device +
-                                ": reconnect_interval_ms must be positive and finite");
-  }
+  validate_serial_config(config_, "serial glove");
   if (queue_capacity == 0) {
     throw std::invalid_argument("serial glove " + config_.device + ": queue_capacity must be > 0");
   }

@@ -1,5 +1,7 @@
 #include "sculpt/hal/serial_port.hpp"
 
+#include <string>
+#include <cmath>
 #include <fcntl.h>
 #include <termios.h>
 #include <unistd.h>
@@ -137,6 +139,18 @@ IoResult SerialPort::write(std::span<const std::uint8_t> bytes) noexcept {
     if (errno == EINTR) continue;
     if (errno == EAGAIN || errno == EWOULDBLOCK) return {IoStatus::kWouldBlock, 0, 0};
     return {IoStatus::kGone, 0, errno};
+  }
+}
+
+void validate_serial_config(const SerialConfig& config, const char* who) {
+  if (config.device.empty()) throw std::invalid_argument(std::string(who) + ": device path is empty");
+  if (!SerialPort::is_standard_baud(config.baud)) {
+    throw std::invalid_argument(std::string(who) + " " + config.device + ": baud " + std::to_string(config.baud) +
+                                " is not a standard rate (e.g. 115200, 921600, 1000000)");
+  }
+  if (!std::isfinite(config.reconnect_interval_ms) || config.reconnect_interval_ms <= 0.0) {
+    throw std::invalid_argument(std::string(who) + " " + config.device +
+                                ": reconnect_interval_ms must be positive and finite");
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // A serial device (or pseudo-terminal) opened raw and non-blocking, closed on destruction.
 
+#include "sculpt/hal/backend_config.hpp"
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -71,5 +72,10 @@ class SerialPort {
   int fd_ = -1;
   std::string path_;
 };
+
+/// Checks the settings a serial backend needs before it starts; throws std::invalid_argument
+/// naming `who` (e.g. "serial glove") and the device: empty path, non-standard baud, a
+/// reconnect interval that is not positive and finite.
+void validate_serial_config(const SerialConfig& config, const char* who);
 
 }  // namespace sculpt::hal
