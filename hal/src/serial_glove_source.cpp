@@ -41,11 +41,7 @@ SerialGloveSource::SerialGloveSource(const SerialConfig& config, std::size_t que
   if (queue_capacity == 0) {
     throw std::invalid_argument("serial glove " + config_.device + ": queue_capacity must be > 0");
   }
-  wake_fd_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
-  if (wake_fd_ < 0) {
-    throw std::runtime_error("serial glove " + config_.device +
-                             ": eventfd: " + std::strerror(errno));
-  }
+  wake_fd_ = make_wake_fd(std::string("serial glove ") + config_.device);
 }
 
 SerialGloveSource::~SerialGloveSource() {

@@ -36,11 +36,7 @@ SerialHapticSink::SerialHapticSink(const SerialConfig& config, std::size_t queue
     throw std::invalid_argument("serial haptic sink " + config_.device +
                                 ": queue_capacity must be > 0");
   }
-  wake_fd_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
-  if (wake_fd_ < 0) {
-    throw std::runtime_error("serial haptic sink " + config_.device +
-                             ": eventfd: " + std::strerror(errno));
-  }
+  wake_fd_ = make_wake_fd(std::string("serial haptic sink ") + config_.device);
 }
 
 SerialHapticSink::~SerialHapticSink() {

@@ -1,5 +1,6 @@
 #include "sculpt/hal/serial_port.hpp"
 
+#include <sys/eventfd.h>
 #include <string>
 #include <cmath>
 #include <fcntl.h>
@@ -152,6 +153,12 @@ void validate_serial_config(const SerialConfig& config, const char* who) {
     throw std::invalid_argument(std::string(who) + " " + config.device +
                                 ": reconnect_interval_ms must be positive and finite");
   }
+}
+
+int make_wake_fd(const std::string& who) {
+  const int fd = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+  if (fd < 0) throw std::runtime_error(who + ": eventfd: " + std::strerror(errno));
+  return fd;
 }
 
 }  // namespace sculpt::hal

@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "pty_pair.hpp"
 #include "sculpt/hal/serial_glove_source.hpp"
 #include "sculpt/hal/serial_haptic_sink.hpp"
 
@@ -29,34 +30,7 @@ namespace {
 
 using Bytes = std::vector<std::uint8_t>;
 
-class Pty {
- public:
-  Pty() {
-    if (::openpty(&master_, &slave_, nullptr, nullptr, nullptr) != 0) {
-      throw std::runtime_error(std::string("openpty: ") + std::strerror(errno));
-    }
-    termios tio{};
-    ::tcgetattr(slave_, &tio);
-    ::cfmakeraw(&tio);
-    ::tcsetattr(slave_, TCSANOW, &tio);
-    slave_path_ = ::ttyname(slave_);
-  }
-  ~Pty() { close(); }
-  Pty(const Pty&) = delete;
-  Pty& operator=(const Pty&) = delete;
-  void close() {
-    if (master_ >= 0) ::close(master_);
-    if (slave_ >= 0) ::close(slave_);
-    master_ = slave_ = -1;
-  }
-  int master() const { return master_; }
-  const std::string& slave_path() const { return slave_path_; }
-
- private:
-  int master_ = -1;
-  int slave_ = -1;
-  std::string slave_path_;
-};
+using testing_support::Pty;
 
 // Copies bytes between two masters in both directions until destroyed: the wire.
 class Relay {

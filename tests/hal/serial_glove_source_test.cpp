@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "pty_pair.hpp"
 #include "sculpt/hal/frame_codec.hpp"
 #include "sculpt/hal/sequence_tracker.hpp"
 
@@ -30,48 +31,7 @@ namespace {
 
 using Bytes = std::vector<std::uint8_t>;
 
-// A pseudo-terminal pair. The slave is set raw at once so nothing the test writes before the
-// code under test opens it is echoed or line-edited.
-class Pty {
- public:
-  Pty() {
-    if (::openpty(&master_, &slave_, nullptr, nullptr, nullptr) != 0) {
-      throw std::runtime_error(std::string("openpty: ") + std::strerror(errno));
-    }
-    termios tio{};
-    ::tcgetattr(slave_, &tio);
-    ::cfmakeraw(&tio);
-    ::tcsetattr(slave_, TCSANOW, &tio);
-    slave_path_ = ::ttyname(slave_);
-  }
-  ~Pty() { close(); }
-  Pty(const Pty&) = delete;
-  Pty& operator=(const Pty&) = delete;
-
-  /// Closes both ends: for whoever has the slave open, the device is gone.
-  void close() {
-    if (master_ >= 0) ::close(master_);
-    if (slave_ >= 0) ::close(slave_);
-    master_ = slave_ = -1;
-  }
-  int master() const { return master_; }
-  const std::string& slave_path() const { return slave_path_; }
-
-  void write(const Bytes& bytes) const {
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-      const ssize_t n = ::write(master_, bytes.data() + done, bytes.size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      ASSERT_GT(n, 0) << std::strerror(errno);
-      done += static_cast<std::size_t>(n);
-    }
-  }
-
- private:
-  int master_ = -1;
-  int slave_ = -1;
-  std::string slave_path_;
-};
+using testing_support::Pty;
 
 // A private directory holding the symlink the source opens, like a udev by-id link.
 class LinkDir {

@@ -78,4 +78,8 @@ class SerialPort {
 /// reconnect interval that is not positive and finite.
 void validate_serial_config(const SerialConfig& config, const char* who);
 
+/// A non-blocking eventfd that wakes an I/O thread out of poll(); throws std::runtime_error
+/// naming `who` when the kernel refuses one.
+int make_wake_fd(const std::string& who);
+
 }  // namespace sculpt::hal
