@@ -105,7 +105,7 @@ void bare_loop(benchmark::State& state, Precision precision) {
   std::vector<SourceForce> sources;
   for (int s = 0; s < 5; ++s) sources.push_back({{0.3 * s, 0.0, 1.5}, {0.0, 0.0, -1e-3}});
   for (auto _ : state) {
-    benchmark::DoNotOptimize(apply_displacements(model, kernel, sources, {}, true, {precision, false}));
+    benchmark::DoNotOptimize(apply_displacements(model, kernel, sources, {}, true, {precision, false}).max_displacement);
   }
   state.counters["points/s"] = benchmark::Counter(1e5 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }

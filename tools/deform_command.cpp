@@ -34,6 +34,7 @@ const char* state_name(deform::ProbeState s) {
     case deform::ProbeState::kGuarded: return "guarded";
     case deform::ProbeState::kCollided: return "collided";
     case deform::ProbeState::kStartedInside: return "started_inside";
+    case deform::ProbeState::kDropped: return "dropped";
   }
   return "?";
 }
@@ -43,6 +44,7 @@ const char* rule_name(deform::SourceRule r) {
     case deform::SourceRule::kPrevious: return "previous";
     case deform::SourceRule::kEarlier: return "earlier";
     case deform::SourceRule::kPushedBack: return "pushed_back";
+    case deform::SourceRule::kCleared: return "cleared";
   }
   return "?";
 }
@@ -67,7 +69,7 @@ class DeformCommand final : public Command {
     sub_->add_option("--kernel", kernel_, "kelvin | regularized")->check(CLI::IsMember({"kelvin", "regularized"}))->default_val("kelvin");
     eps_reg_option_ = sub_->add_option("--eps-reg", eps_reg_, "Regularization radius of the regularized kernel (model units)");
     sub_->add_option("--form", form_, "force (thesis ch. 3: weights are the force) | scale (ch. 4: weights scale F)")
-        ->check(CLI::IsMember({"force", "scale"}))->default_val("scale");
+        ->check(CLI::IsMember({"force", "scale"}))->default_val("force");
     sub_->add_option("--mode", mode_, "push | pull | auto (pull when every contact starts inside)")
         ->check(CLI::IsMember({"push", "pull", "auto"}))->default_val("auto");
     bc_option_ = sub_->add_option("--bc-radius", bc_radius_, "eps: points this close to A follow the probe [mean spacing]");
@@ -189,7 +191,7 @@ class DeformCommand final : public Command {
       write_ms = ms_since(write_start);
     }
 
-    nlohmann::json json = make_json(model, settings, normals_source, spacing, report);
+    nlohmann::json json = make_json(model, settings, normals_source, spacing, report, deformer.frames().size());
     json["time_ms"] = {{"load", load_ms}, {"setup", setup_ms}, {"frame", frame_ms}, {"write", write_ms}};
     print_summary(model, settings, normals_source, report, frame_ms);
     if (!json_path_.empty()) {
@@ -213,7 +215,7 @@ class DeformCommand final : public Command {
 
   nlohmann::json make_json(const deform::PointModel& model, const deform::DeformSettings& s,
                            const std::string& normals_source, double spacing,
-                           const deform::FrameReport& r) const {
+                           const deform::FrameReport& r, std::size_t frames_applied) const {
     using nlohmann::json;
     json solve = {{"ok", r.solve.ok},
                   {"rows", r.solve.rows},
@@ -235,6 +237,7 @@ class DeformCommand final : public Command {
                     {"nearest_point", to_json(c.contact)},
                     {"distance", c.distance},
                     {"side_after", c.side_after},
+                    {"miss", c.miss},
                     {"pushed_out", c.pushed_out},
                     {"probe_after", to_json(c.probe_after)}};
       if (collided) {
@@ -254,6 +257,8 @@ class DeformCommand final : public Command {
       }
       contacts.push_back(entry);
     }
+    json guards = json::object();
+    deform::for_each_guard(r.guards, [&](const char* name, std::uint32_t count) { guards[name] = count; });
     const auto& k = s.kernel;
     return {{"model", model_path_},
             {"points", model.size()},
@@ -278,7 +283,12 @@ class DeformCommand final : public Command {
             {"displacement_conditions", r.displacement_conditions},
             {"max_displacement", r.max_displacement},
             {"max_contact_displacement", r.max_contact_displacement},
-            {"max_border_displacement", r.max_border_displacement}};
+            {"max_border_displacement", r.max_border_displacement},
+            {"frames_applied", frames_applied},
+            {"rejected", r.rejected},
+            {"min_jacobian", r.min_jacobian},
+            {"max_miss", r.max_miss},
+            {"guards", guards}};
   }
 
   void print_summary(const deform::PointModel& model, const deform::DeformSettings& s,
@@ -310,6 +320,15 @@ class DeformCommand final : public Command {
     std::printf("result   %zu collision(s), %zu points moved, max displacement %.4g, band/contact %.3g, frame %.3f ms\n",
                 r.collisions, r.region_points, r.max_displacement,
                 r.max_contact_displacement > 0 ? r.max_border_displacement / r.max_contact_displacement : 0.0, frame_ms);
+    std::printf("guards   min det(I + grad u) %.4g, miss %.4g%s;", r.min_jacobian, r.max_miss,
+                r.rejected ? ", frame undone" : "");
+    bool any = false;
+    deform::for_each_guard(r.guards, [&](const char* name, std::uint32_t count) {
+      if (count == 0) return;
+      std::printf(" %s %u", name, count);
+      any = true;
+    });
+    std::printf("%s\n", any ? "" : " none acted");
     if (!out_path_.empty()) std::printf("wrote    %s\n", out_path_.c_str());
   }
 

@@ -189,12 +189,15 @@ class ReplayCommand final : public Command {
     rt::ReplayGloveSource* replay = source.get();
     rt::Station station(setup.model, setup.settings, std::move(source), nullptr);
     // The recorded frames' region radii, so an auto region does not depend on this machine's speed.
+    // Indexed by frame id: frames that logged nothing (no collision) have no radius (0). A step
+    // runs on an accepted glove sample and holds at most 64 frames, which bounds a sane id.
     std::vector<double> radii;
-    std::int64_t last_frame = -1;
+    const auto id_bound = static_cast<std::int64_t>(log.samples.size() + 1) * 64;
     for (const logging::CollisionRecord& c : log.collisions) {
-      if (c.frame_id == last_frame) continue;
-      last_frame = c.frame_id;
-      radii.push_back(c.region_radius);
+      if (c.frame_id < 0 || c.frame_id > id_bound) continue;
+      const auto id = static_cast<std::size_t>(c.frame_id);
+      if (radii.size() <= id) radii.resize(id + 1, 0.0);
+      radii[id] = c.region_radius;
     }
     if (!radii.empty() && setup.model.size() == 0) radii.clear();
     station.set_region_schedule(radii);

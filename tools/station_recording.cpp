@@ -17,7 +17,6 @@ namespace sculpt::tools {
 #if SCULPT_HAS_LCM
 namespace {
 
-logging::Vec3d d3(const deform::Vec3& v) { return {v.x, v.y, v.z}; }
 logging::Vec3f f3(const deform::Vec3& v) {
   return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
 }
@@ -111,7 +110,6 @@ class LcmRecording final : public Recording, public rt::StationRecorder {
       r.time_s = f.time_s;
       r.hand = f.fingers[k].hand;
       r.finger = f.fingers[k].finger;
-      r.probe = d3(f.probes[k].current);
       if (log_) log_->record(r);
       if (publisher_) publisher_->publish(r);
     }

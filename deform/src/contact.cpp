@@ -34,8 +34,9 @@ SurfaceSide locate(const PointModel& model, const PointIndex& index, double drif
   const Vec3 a = model.position(near.index);
   const Vec3 v = probe - a;
   // Thesis 4.2.1.1: with normals, the sign of n_A . v. 4.2.1.2: without, the sign of the angle
-  // between v and the direction to a point known to be outside.
-  s.side = model.has_normals() ? dot(model.normal(near.index), v) : dot(v, *settings.reference - a);
+  // between v and the direction to a point known to be outside. Either way a length along a
+  // unit direction, so that it compares with Δd wherever the reference point stands.
+  s.side = model.has_normals() ? dot(model.normal(near.index), v) : dot(v, normalized(*settings.reference - a));
   return s;
 }
 

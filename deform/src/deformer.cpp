@@ -10,10 +10,57 @@
 
 namespace sculpt::deform {
 
+namespace {
+
+// How many points the finger's patch (an eps-ball) holds on the undeformed model: the median
+// over an even sample, times `fraction`, at least 1.
+std::size_t typical_patch_points(const PointModel& model, const PointIndex& index, double radius, double fraction) {
+  const std::size_t n = model.size();
+  const std::size_t samples = std::min<std::size_t>(n, 64);
+  std::vector<std::size_t> counts;
+  std::vector<std::uint32_t> found;
+  for (std::size_t k = 0; k < samples; ++k) {
+    index.within_radius(model, model.position(k * n / samples), radius, found);
+    counts.push_back(found.size());
+  }
+  std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(samples / 2), counts.end());
+  const double median = static_cast<double>(counts[samples / 2]);
+  return std::max<std::size_t>(1, static_cast<std::size_t>(std::floor(fraction * median)));
+}
+
+}  // namespace
+
+void GuardSettings::validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("deform guards: " + what); };
+  if (!(clearance_ratio >= 0.0 && clearance_ratio <= 1e3)) fail("clearance ratio must lie in [0, 1000]");
+  if (!(min_jacobian >= 0.0 && min_jacobian < 1.0)) fail("min jacobian must lie in [0, 1)");
+  if (max_split_depth < 0 || max_split_depth > 10) fail("max split depth must lie in 0..10");
+  if (!(min_patch_fraction >= 0.0 && min_patch_fraction <= 1.0)) fail("min patch fraction must lie in [0, 1]");
+  if (!(probe_range > 0.0) || !std::isfinite(probe_range)) fail("probe range must be positive and finite");
+}
+
+GuardCounts& GuardCounts::operator+=(const GuardCounts& o) noexcept {
+  source_moved += o.source_moved;
+  fold_splits += o.fold_splits;
+  fold_rejected += o.fold_rejected;
+  non_finite += o.non_finite;
+  pushed_out += o.pushed_out;
+  damped += o.damped;
+  probe_dropped += o.probe_dropped;
+  patch_widened += o.patch_widened;
+  return *this;
+}
+
+std::uint32_t GuardCounts::total() const noexcept {
+  std::uint32_t sum = 0;
+  for_each_guard(*this, [&](const char*, std::uint32_t v) { sum += v; });
+  return sum;
+}
+
 Deformer::Deformer(PointModel& model, const DeformSettings& settings)
     : model_(model),
       settings_(settings),
-      index_((settings.kernel.validate(), settings.contact.validate(), model)),
+      index_((settings.kernel.validate(), settings.contact.validate(), settings.guards.validate(), model)),
       region_(settings.region, model, index_, settings.contact.bc_radius),
       solver_(settings.solver) {
   if (model_.empty()) throw std::invalid_argument("deform: the model has no points");
@@ -30,6 +77,14 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   }
   const std::size_t n = model_.size();
   report_.contacts.resize(settings_.max_probes);
+  folded_.contacts.resize(settings_.max_probes);
+  substeps_.resize((std::size_t{1} << settings_.guards.max_split_depth) + 1);
+  for (FrameReport& f : substeps_) f.contacts.resize(settings_.max_probes);
+  sub_probes_.reserve(settings_.max_probes);
+  journal_.reserve(n, model_.has_normals());
+  centre_ = model_.bounding_box_centre();
+  probe_range_ = settings_.guards.probe_range * std::max(model_.bounding_box_diagonal(), 1e-30);
+  min_patch_points_ = typical_patch_points(model_, index_, settings_.contact.bc_radius, settings_.guards.min_patch_fraction);
   sources_.reserve(kMaxSources);
   forces_.reserve(kMaxSources);
   weights_.resize(kMaxSources);
@@ -89,8 +144,20 @@ void Deformer::restore(const PointModel& base) {
   }
 }
 
-std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displacement, bool record) {
-  index_.within_radius(model_, centre, settings_.contact.bc_radius, neighbours_, drift_);
+std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displacement, bool record, bool widen,
+                                        FrameReport& r) noexcept {
+  double radius = settings_.contact.bc_radius;
+  index_.within_radius(model_, centre, radius, neighbours_, drift_);
+  // A long push can leave A alone in its eps-ball (a needle): the finger's patch is the
+  // finger's size, so the ball grows until it holds the points an eps-ball holds on the
+  // undeformed model (up to 4 eps).
+  if (widen && neighbours_.size() < min_patch_points_) {
+    ++r.guards.patch_widened;
+    for (int k = 0; k < 4 && neighbours_.size() < min_patch_points_; ++k) {
+      radius *= std::sqrt(2.0);
+      index_.within_radius(model_, centre, radius, neighbours_, drift_);
+    }
+  }
   for (std::uint32_t j : neighbours_) {
     conditions_.push_back({model_.position(j), displacement, 1.0});
     if (record) contact_neighbourhood_.push_back(j);
@@ -98,7 +165,7 @@ std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displace
   return neighbours_.size();
 }
 
-double Deformer::field_magnitude_max(std::span<const std::uint32_t> points) const {
+double Deformer::field_magnitude_max(std::span<const std::uint32_t> points) const noexcept {
   double largest = 0.0;
   for (std::uint32_t j : points) {
     Vec3 u;
@@ -108,9 +175,9 @@ double Deformer::field_magnitude_max(std::span<const std::uint32_t> points) cons
   return largest;
 }
 
-void Deformer::compute_tractions() {
+void Deformer::compute_tractions(FrameReport& r) noexcept {
   for (std::size_t p = 0; p + 1 < neighbourhood_begin_.size(); ++p) {
-    ContactReport& c = report_.contacts[p];
+    ContactReport& c = r.contacts[p];
     if (c.state != ProbeState::kCollided) continue;
     auto traction_at = [&](std::uint32_t j) {
       Vec3 t;
@@ -128,35 +195,76 @@ void Deformer::compute_tractions() {
   }
 }
 
-void Deformer::keep_probes_outside(std::span<const ProbeMotion> probes) {
+Vec3 Deformer::outward(std::uint32_t point) const noexcept {
+  const ContactSettings& cs = settings_.contact;
+  Vec3 side = model_.has_normals() ? model_.normal(point) : normalized(*cs.reference - model_.position(point));
+  if (squared_norm(side) == 0.0) side = Vec3{0.0, 0.0, 1.0};
+  return cs.mode == ContactMode::kPull ? -side : side;
+}
+
+Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, std::uint32_t nearest, double clearance,
+                            bool& moved) const noexcept {
+  moved = false;
+  // Float positions: a source exactly at the clearance may measure a hair closer.
+  const double enough = clearance * (1.0 - 1e-6);
+  if (index_.nearest(model_, candidate, drift_).distance >= enough) return candidate;
+  // MATH.md §4 and §6: a source next to any model point makes that point's displacement
+  // unbounded, and one off A's normal folds the material early; A's normal, on the side the
+  // probe came from, at the clearance is where a source folds last. A dent may bring other
+  // points closer than A, so the distance doubles until the clearance holds (four tries).
+  moved = true;
+  const Vec3 side = outward(nearest);
+  Vec3 placed = candidate;
+  double distance = clearance;
+  for (int k = 0; k < 4; ++k, distance *= 2.0) {
+    placed = contact + side * distance;
+    if (index_.nearest(model_, placed, drift_).distance >= enough) break;
+  }
+  return placed;
+}
+
+bool Deformer::probe_usable(const ProbeMotion& m) const noexcept {
+  auto ok = [&](const Vec3& p) { return is_finite(p) && norm(p - centre_) <= probe_range_; };
+  return ok(m.current) && ok(m.previous) && (!m.earlier || ok(*m.earlier));
+}
+
+void Deformer::keep_probes_outside(std::span<const ProbeMotion> probes, FrameReport& r) noexcept {
   const ContactSettings& cs = settings_.contact;
   for (std::size_t p = 0; p < probes.size(); ++p) {
-    ContactReport& c = report_.contacts[p];
+    ContactReport& c = r.contacts[p];
+    if (c.state == ProbeState::kDropped) continue;
     const SurfaceSide after = locate(model_, index_, drift_, probes[p].current, cs);
     c.side_after = after.side;
     c.probe_after = probes[p].current;
+    if (after.nearest == PointIndex::kNoPoint) continue;
+    const double depth = cs.mode == ContactMode::kPush ? -after.side : after.side;  // > 0 across
     const bool free_finger = c.state == ProbeState::kFree || c.state == ProbeState::kGuarded;
-    if (!free_finger || !crossed(cs.mode, after.side)) continue;
-    // Thesis 4.3.2.1: a finger that an extreme update left across the surface is moved to the
-    // nearest point's allowed side, Δd off the surface, so the next frame cannot go singular.
-    const Vec3 a = model_.position(after.nearest);
-    Vec3 outward = model_.has_normals() ? model_.normal(after.nearest) : normalized(*cs.reference - a);
-    if (cs.mode == ContactMode::kPull) outward = -outward;
-    c.probe_after = a + outward * cs.min_source_distance;
+    if (c.state == ProbeState::kCollided) c.miss = std::max(0.0, depth);
+    // Thesis 4.3.2.1: a finger left across the surface is moved to the nearest point's allowed
+    // side, Δd off it, so the next frame cannot start inside or go singular. A free finger may
+    // not be across at all; a pressing one may rest up to Δd inside (the solve's residual).
+    const double allowed = free_finger ? 0.0 : cs.min_source_distance;
+    if (!(depth > allowed)) continue;
+    c.probe_after = model_.position(after.nearest) + outward(after.nearest) * cs.min_source_distance;
     c.pushed_out = true;
+    ++r.guards.pushed_out;
     c.side_after = locate(model_, index_, drift_, c.probe_after, cs).side;
   }
+  r.max_miss = 0.0;
+  for (std::size_t p = 0; p < probes.size(); ++p) r.max_miss = std::max(r.max_miss, r.contacts[p].miss);
 }
 
-const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcept {
+Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, FrameReport& r) noexcept {
   const ContactSettings& cs = settings_.contact;
-  const std::size_t count = std::min(probes.size(), settings_.max_probes);
-  probes = probes.first(count);
-  FrameReport& r = report_;
+  const std::size_t count = probes.size();
   r.collisions = 0;
   r.solve = SolveReport{};
   r.region_points = r.border_points = r.displacement_conditions = 0;
   r.max_displacement = r.max_contact_displacement = r.max_border_displacement = 0.0;
+  r.min_jacobian = 1.0;
+  r.max_miss = 0.0;
+  r.rejected = false;
+  r.guards = GuardCounts{};
   sources_.clear();
   forces_.clear();
   conditions_.clear();
@@ -169,7 +277,13 @@ const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcep
     ContactReport& c = r.contacts[p];
     c = ContactReport{};
     neighbourhood_begin_[p] = contact_neighbourhood_.size();
-    const SurfaceSide now = locate(model_, index_, drift_, probes[p].current, cs);
+    const SurfaceSide now =
+        probe_usable(probes[p]) ? locate(model_, index_, drift_, probes[p].current, cs) : SurfaceSide{};
+    if (now.nearest == PointIndex::kNoPoint) {
+      c.state = ProbeState::kDropped;
+      ++r.guards.probe_dropped;
+      continue;
+    }
     c.nearest = now.nearest;
     c.distance = now.distance;
     c.contact = model_.position(now.nearest);
@@ -183,21 +297,25 @@ const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcep
       c.state = ProbeState::kStartedInside;
       continue;
     }
-    const ForceSetup setup = set_up_force(probes[p], c.contact, cs.min_source_distance);
+    ForceSetup setup = set_up_force(probes[p], c.contact, cs.min_source_distance);
+    const double clearance = std::max(cs.min_source_distance, settings_.guards.clearance_ratio * norm(setup.force));
+    bool moved = false;
+    setup.source = clear_source(setup.source, c.contact, now.nearest, clearance, moved);
+    if (moved) ++r.guards.source_moved;
     c.state = ProbeState::kCollided;
     c.source = setup.source;
-    c.source_rule = setup.rule;
+    c.source_rule = moved ? SourceRule::kCleared : setup.rule;
     c.force = setup.force;
     sources_.push_back({setup.source, setup.force});
     contact_points_.push_back(c.contact);
-    c.boundary_points = add_neighbourhood(c.contact, setup.force, /*record=*/true);
+    c.boundary_points = add_neighbourhood(c.contact, setup.force, /*record=*/true, /*widen=*/true, r);
     contact_conditions += c.boundary_points;
     ++r.collisions;
   }
   neighbourhood_begin_[count] = contact_neighbourhood_.size();
   if (r.collisions == 0) {
-    keep_probes_outside(probes);
-    return r;
+    keep_probes_outside(probes, r);
+    return Outcome::kNothing;
   }
 
   // 2. Δr: a free finger near the surface pins its neighbourhood so it stays outside.
@@ -205,7 +323,7 @@ const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcep
     ContactReport& c = r.contacts[p];
     if (c.state != ProbeState::kFree || c.distance >= cs.guard_distance) continue;
     c.state = ProbeState::kGuarded;
-    c.boundary_points = add_neighbourhood(c.contact, Vec3{}, /*record=*/false);
+    c.boundary_points = add_neighbourhood(c.contact, Vec3{}, /*record=*/false, /*widen=*/false, r);
   }
 
   // 3. The region and its pinned band; the band as a whole weighs border_weight times the
@@ -222,6 +340,7 @@ const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcep
   // 4. Weights, then the effective forces that everything downstream uses.
   r.solve = solver_.solve(settings_.kernel, sources_, conditions_, {}, std::span(weights_).first(sources_.size()),
                           std::span(effective_).first(sources_.size()));
+  if (r.solve.damped) ++r.guards.damped;
   std::size_t s = 0;
   for (std::size_t p = 0; p < count; ++p) {
     ContactReport& c = r.contacts[p];
@@ -232,25 +351,155 @@ const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcep
     ++s;
   }
   if (!r.solve.ok) {
-    keep_probes_outside(probes);
-    return r;  // nothing finite to apply: the model stays as it was
+    keep_probes_outside(probes, r);
+    return Outcome::kNothing;  // nothing finite to apply: the model stays as it was
   }
 
   // 5. What the frame will do at the contacts and the band, and the haptic traction, all on the
   //    undeformed configuration the solution refers to.
   r.max_contact_displacement = field_magnitude_max(contact_neighbourhood_);
   r.max_border_displacement = field_magnitude_max(band);
-  if (settings_.traction) compute_tractions();
+  if (settings_.traction) compute_tractions(r);
 
-  // 6. Move the region (or everything) and carry the normals.
-  r.max_displacement = apply_displacements(model_, settings_.kernel, forces_, region_.points(),
-                                           region_.global(), settings_.field);
+  // 6. Move the region (or everything) and carry the normals, keeping the old values: a frame
+  //    that folds the material or yields a non-finite value is undone bit for bit.
+  const FieldResult moved = apply_displacements(model_, settings_.kernel, forces_, region_.points(),
+                                                region_.global(), settings_.field, /*jacobian=*/true, &journal_);
+  r.min_jacobian = moved.min_jacobian;
+  if (!moved.finite) {
+    journal_.restore(model_);
+    r.rejected = true;
+    ++r.guards.non_finite;
+    keep_probes_outside(probes, r);
+    return Outcome::kNonFinite;
+  }
+  if (!(moved.min_jacobian > settings_.guards.min_jacobian)) {
+    journal_.restore(model_);
+    r.rejected = true;
+    return Outcome::kFolded;
+  }
+  r.max_displacement = moved.max_displacement;
   r.region_points = region_.global() ? model_.size() : region_.points().size();
   r.border_points = band.size();
   drift_ += r.max_displacement;
 
-  keep_probes_outside(probes);
-  return r;
+  keep_probes_outside(probes, r);
+  return Outcome::kApplied;
+}
+
+void Deformer::split_frame(std::span<const ProbeMotion> probes, const FrameReport& folded) noexcept {
+  // The folded frame's sources, contacts and forces stay fixed; the substeps walk each probe
+  // from its contact point A to its target A + F in equal parts, halving the part while a
+  // substep still folds. A substep is an ordinary frame (collision detection included), so the
+  // log records it as one and replay reproduces it; with its source held, each part sees a
+  // smaller force against a distance that shrinks more slowly, which is what unfolds it.
+  const std::size_t count = probes.size();
+  std::array<bool, kMaxSources> pressing{};
+  std::array<Vec3, kMaxSources> source{}, contact{}, force{};
+  for (std::size_t p = 0; p < count; ++p) {
+    const ContactReport& c = folded.contacts[p];
+    pressing[p] = c.state == ProbeState::kCollided;
+    source[p] = c.source;
+    contact[p] = c.contact;
+    force[p] = c.force;
+  }
+  carried_ = folded.guards;
+  ++carried_.fold_splits;
+  const int max_depth = settings_.guards.max_split_depth;
+  double done = 0.0;
+  double step = 0.5;
+  int depth = 1;
+  last_ = nullptr;
+  while (done < 1.0 && applied_ < substeps_.size()) {
+    const double t = std::min(1.0, done + step);
+    sub_probes_.clear();
+    for (std::size_t p = 0; p < count; ++p) {
+      ProbeMotion m;
+      if (pressing[p]) {
+        m.previous = source[p];
+        m.current = contact[p] + force[p] * t;
+      } else {
+        m.previous = m.current = probes[p].current;
+      }
+      sub_probes_.push_back(m);
+    }
+    FrameReport& r = substeps_[applied_];
+    const Outcome o = run_frame(sub_probes_, r);
+    last_ = &r;
+    if (o == Outcome::kFolded && depth < max_depth) {
+      carried_ += r.guards;
+      ++carried_.fold_splits;
+      step *= 0.5;
+      ++depth;
+      continue;
+    }
+    if (o == Outcome::kFolded) {
+      ++r.guards.fold_rejected;
+      keep_probes_outside(sub_probes_, r);
+      break;
+    }
+    if (o == Outcome::kNonFinite) break;
+    if (o == Outcome::kApplied) ++applied_;
+    done = t;
+  }
+}
+
+void Deformer::merge_step(std::size_t count) noexcept {
+  // The step as one report: the last attempt's contacts and solve, sums and extremes over the
+  // applied frames, and every guard that acted on the way.
+  FrameReport& m = report_;
+  const FrameReport& last = *last_;
+  const bool last_applied = applied_ > 0 && last_ == &substeps_[applied_ - 1];
+  for (std::size_t p = 0; p < count; ++p) m.contacts[p] = last.contacts[p];
+  m.solve = last.solve;
+  m.displacement_conditions = last.displacement_conditions;
+  m.max_miss = last.max_miss;
+  m.guards = carried_;
+  if (!last_applied) m.guards += last.guards;
+  m.collisions = m.region_points = m.border_points = 0;
+  m.max_displacement = m.max_contact_displacement = m.max_border_displacement = 0.0;
+  m.min_jacobian = applied_ > 0 ? 1.0 : last.min_jacobian;
+  m.rejected = applied_ == 0 && last.rejected;
+  for (std::size_t p = 0; p < count && applied_ > 1; ++p) m.contacts[p].traction_resultant = Vec3{};
+  for (const FrameReport& f : frames()) {
+    m.guards += f.guards;
+    m.collisions += f.collisions;
+    m.region_points += f.region_points;
+    m.border_points += f.border_points;
+    m.max_displacement = std::max(m.max_displacement, f.max_displacement);
+    m.max_contact_displacement = std::max(m.max_contact_displacement, f.max_contact_displacement);
+    m.max_border_displacement = std::max(m.max_border_displacement, f.max_border_displacement);
+    m.min_jacobian = std::min(m.min_jacobian, f.min_jacobian);
+    if (applied_ < 2) continue;
+    // By superposition the step's reaction is the sum of its frames'.
+    for (std::size_t p = 0; p < count; ++p) {
+      const ContactReport& c = f.contacts[p];
+      if (c.state != ProbeState::kCollided) continue;
+      m.contacts[p].state = ProbeState::kCollided;
+      if (!c.has_traction) continue;
+      m.contacts[p].has_traction = true;
+      m.contacts[p].traction_resultant += c.traction_resultant;
+      m.contacts[p].traction = c.traction;
+    }
+  }
+}
+
+const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcept {
+  probes = probes.first(std::min(probes.size(), settings_.max_probes));
+  applied_ = 0;
+  carried_ = GuardCounts{};
+  FrameReport& whole = substeps_[0];
+  last_ = &whole;
+  const Outcome o = run_frame(probes, whole);
+  if (o == Outcome::kApplied) applied_ = 1;
+  if (o == Outcome::kFolded) {
+    // substeps_[0] is about to be reused: keep what the folded attempt decided.
+    folded_.contacts.assign(whole.contacts.begin(), whole.contacts.end());
+    folded_.guards = whole.guards;
+    split_frame(probes, folded_);
+  }
+  merge_step(probes.size());
+  return report_;
 }
 
 }  // namespace sculpt::deform

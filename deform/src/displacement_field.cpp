@@ -109,38 +109,91 @@ void add_gradients(const SourceTable<T>& t, const Block<T>& b, GradientBlock<T>&
   }
 }
 
-// n' = normalize(F^-T n) with F = I + grad u. F^-T = cof(F) / det F, so the cofactor matrix
-// suffices; the sign of det keeps the normal's side when an extreme edit inverts the element.
+// det(I + grad u) and, when `carry`, the normal carried by Nanson's formula (MATH.md §6):
+// n' = normalize(cof(Fg) n), cof(Fg) = det(Fg) Fg^-T. The cofactor is used as it is: where the
+// frame folded (det <= 0) no normal formula is meaningful, and the fold guard rejects the frame
+// before anyone reads that normal. Returns det.
 template <typename T>
-inline void carry_normal(const GradientBlock<T>& gb, std::size_t k, float& nx, float& ny, float& nz) {
+inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, bool carry, float& nx, float& ny,
+                             float& nz) {
   const T f00 = T(1) + gb.g[0][0][k], f01 = gb.g[0][1][k], f02 = gb.g[0][2][k];
   const T f10 = gb.g[1][0][k], f11 = T(1) + gb.g[1][1][k], f12 = gb.g[1][2][k];
   const T f20 = gb.g[2][0][k], f21 = gb.g[2][1][k], f22 = T(1) + gb.g[2][2][k];
   const T c00 = f11 * f22 - f12 * f21, c01 = f12 * f20 - f10 * f22, c02 = f10 * f21 - f11 * f20;
+  const T det = f00 * c00 + f01 * c01 + f02 * c02;
+  if (!carry) return det;
   const T c10 = f02 * f21 - f01 * f22, c11 = f00 * f22 - f02 * f20, c12 = f01 * f20 - f00 * f21;
   const T c20 = f01 * f12 - f02 * f11, c21 = f02 * f10 - f00 * f12, c22 = f00 * f11 - f01 * f10;
-  const T det = f00 * c00 + f01 * c01 + f02 * c02;
   const T n0 = nx, n1 = ny, n2 = nz;
   const T mx = c00 * n0 + c01 * n1 + c02 * n2;
   const T my = c10 * n0 + c11 * n1 + c12 * n2;
   const T mz = c20 * n0 + c21 * n1 + c22 * n2;
   const T len = std::sqrt(mx * mx + my * my + mz * mz);
-  if (!(len > T(0))) return;  // degenerate gradient: keep the old normal rather than write NaN
-  const T scale = (det < T(0) ? T(-1) : T(1)) / len;
+  if (!(len > T(0))) return det;  // degenerate gradient: keep the old normal rather than write NaN
+  const T scale = T(1) / len;
   nx = static_cast<float>(mx * scale);
   ny = static_cast<float>(my * scale);
   nz = static_cast<float>(mz * scale);
+  return det;
 }
 
+}  // namespace
+
+// Appends old values to a journal reserved at set-up: no allocation, by construction of the
+// reservation (the caller reserves for every point a frame may move).
+struct JournalWriter {
+  UndoJournal& j;
+  void record(const PointModel& m, std::size_t i) const noexcept {
+    j.index_.push_back(static_cast<std::uint32_t>(i));
+    j.old_.push_back(m.x[i]);
+    j.old_.push_back(m.y[i]);
+    j.old_.push_back(m.z[i]);
+    if (j.normals_) {
+      j.old_.push_back(m.nx[i]);
+      j.old_.push_back(m.ny[i]);
+      j.old_.push_back(m.nz[i]);
+    }
+  }
+};
+
+void UndoJournal::reserve(std::size_t points, bool normals) {
+  normals_ = normals;
+  index_.reserve(points);
+  old_.reserve(points * (normals ? 6 : 3));
+}
+
+void UndoJournal::restore(PointModel& model) const noexcept {
+  const std::size_t stride = normals_ ? 6 : 3;
+  for (std::size_t k = index_.size(); k-- > 0;) {
+    const std::size_t i = index_[k];
+    const float* o = old_.data() + k * stride;
+    model.x[i] = o[0];
+    model.y[i] = o[1];
+    model.z[i] = o[2];
+    if (normals_) {
+      model.nx[i] = o[3];
+      model.ny[i] = o[4];
+      model.nz[i] = o[5];
+    }
+  }
+}
+
+namespace {
+
 template <typename T, typename IndexOf>
-double apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
-                   bool carry_normals) {
+FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
+                        bool carry_normals, bool jacobian, UndoJournal* journal) {
   float* __restrict x = model.x.data();
   float* __restrict y = model.y.data();
   float* __restrict z = model.z.data();
   Block<T> b;
   GradientBlock<T> gb;
   T max_squared = T(0);
+  T min_det = T(1);
+  // Stays 0 while every value is finite; inf - inf and NaN - NaN are NaN, which then sticks.
+  float poison = 0.0f;
+  const bool gradients = carry_normals || jacobian;
+  if (journal) journal->clear();
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     b.size = std::min(kBlock, count - begin);
     for (std::size_t k = 0; k < b.size; ++k) {
@@ -149,12 +202,21 @@ double apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count
       b.qy[k] = y[i];
       b.qz[k] = z[i];
     }
+    if (journal) {
+      const JournalWriter writer{*journal};
+      for (std::size_t k = 0; k < b.size; ++k) writer.record(model, index_of(begin + k));
+    }
     add_displacements(t, b);
-    if (carry_normals) {
+    if (gradients) {
       add_gradients(t, b, gb);
       for (std::size_t k = 0; k < b.size; ++k) {
         const std::size_t i = index_of(begin + k);
-        carry_normal(gb, k, model.nx[i], model.ny[i], model.nz[i]);
+        float dummy = 0.0f;
+        const T det = carry_normals ? jacobian_and_normal(gb, k, true, model.nx[i], model.ny[i], model.nz[i])
+                                    : jacobian_and_normal(gb, k, false, dummy, dummy, dummy);
+        min_det = det < min_det ? det : min_det;
+        poison += static_cast<float>(det - det);
+        if (carry_normals) poison += (model.nx[i] - model.nx[i]) + (model.ny[i] - model.ny[i]) + (model.nz[i] - model.nz[i]);
       }
     }
     for (std::size_t k = 0; k < b.size; ++k) {
@@ -162,37 +224,44 @@ double apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count
       x[i] = static_cast<float>(b.qx[k] + b.ux[k]);
       y[i] = static_cast<float>(b.qy[k] + b.uy[k]);
       z[i] = static_cast<float>(b.qz[k] + b.uz[k]);
+      poison += (x[i] - x[i]) + (y[i] - y[i]) + (z[i] - z[i]);
       const T u2 = b.ux[k] * b.ux[k] + b.uy[k] * b.uy[k] + b.uz[k] * b.uz[k];
       max_squared = u2 > max_squared ? u2 : max_squared;
     }
   }
-  return std::sqrt(static_cast<double>(max_squared));
+  FieldResult result;
+  result.finite = poison == 0.0f && std::isfinite(static_cast<double>(max_squared));
+  result.max_displacement = std::sqrt(static_cast<double>(max_squared));
+  result.min_jacobian = static_cast<double>(min_det);
+  return result;
 }
 
 template <typename T>
-double apply_in(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
-                std::span<const std::uint32_t> indices, bool all_points, bool carry_normals) {
+FieldResult apply_in(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
+                     std::span<const std::uint32_t> indices, bool all_points, bool carry_normals, bool jacobian,
+                     UndoJournal* journal) {
   const SourceTable<T> table = make_table<T>(kernel, sources);
   if (all_points) {
-    return apply_typed(model, table, model.size(), [](std::size_t k) { return k; }, carry_normals);
+    return apply_typed(model, table, model.size(), [](std::size_t k) { return k; }, carry_normals, jacobian,
+                       journal);
   }
   const std::uint32_t* idx = indices.data();
   return apply_typed(model, table, indices.size(), [idx](std::size_t k) { return std::size_t{idx[k]}; },
-                     carry_normals);
+                     carry_normals, jacobian, journal);
 }
 
 }  // namespace
 
-double apply_displacements(PointModel& model, const Kernel& kernel,
-                           std::span<const SourceForce> sources,
-                           std::span<const std::uint32_t> indices, bool all_points,
-                           const FieldOptions& options) noexcept {
-  if (sources.empty()) return 0.0;
+FieldResult apply_displacements(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
+                                std::span<const std::uint32_t> indices, bool all_points, const FieldOptions& options,
+                                bool jacobian, UndoJournal* journal) noexcept {
+  if (journal) journal->clear();
+  if (sources.empty()) return {};
   const bool normals = options.carry_normals && model.has_normals();
   if (options.precision == Precision::kDouble) {
-    return apply_in<double>(model, kernel, sources, indices, all_points, normals);
+    return apply_in<double>(model, kernel, sources, indices, all_points, normals, jacobian, journal);
   }
-  return apply_in<float>(model, kernel, sources, indices, all_points, normals);
+  return apply_in<float>(model, kernel, sources, indices, all_points, normals, jacobian, journal);
 }
 
 }  // namespace sculpt::deform

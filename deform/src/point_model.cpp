@@ -94,4 +94,13 @@ double PointModel::bounding_box_diagonal() const {
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
+Vec3 PointModel::bounding_box_centre() const {
+  if (empty()) return {};
+  auto middle = [](const std::vector<float>& v) {
+    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+    return 0.5 * (static_cast<double>(*lo) + static_cast<double>(*hi));
+  };
+  return {middle(x), middle(y), middle(z)};
+}
+
 }  // namespace sculpt::deform

@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <limits>
 
 namespace sculpt::deform {
@@ -59,6 +61,17 @@ struct RowBlock {
 
 }  // namespace
 
+void SolverOptions::validate() const {
+  auto fail = [](const char* what) { throw std::invalid_argument(std::string("solver: ") + what); };
+  if (!(traction_eps >= 0.0) || !std::isfinite(traction_eps)) fail("traction eps must be finite and >= 0");
+  if (!(rank_tolerance > 0.0 && rank_tolerance < 1e-3)) fail("rank tolerance must lie in (0, 1e-3)");
+  if (!(max_condition > 1.0) || !std::isfinite(max_condition)) fail("max condition must be finite and > 1");
+  if (!(rank_tolerance * max_condition < 1.0)) {
+    fail("max condition must stay below 1 / rank tolerance, or the damped solve could never act");
+  }
+  if (!(zero_component >= 0.0 && zero_component < 1.0)) fail("zero component must lie in [0, 1)");
+}
+
 SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetup> sources,
                                 std::span<const DisplacementCondition> displacements,
                                 std::span<const TractionCondition> tractions,
@@ -75,6 +88,10 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
   const double traction_weight = std::sqrt(options_.traction_eps / (young * young));
   const bool scaled = options_.form == WeightForm::kScale;
   const KernelCoefficients coeffs = coefficients(kernel);
+  const double zero_fraction = options_.zero_component;
+  auto scaled_component = [zero_fraction](const Vec3& f, int k) {
+    return std::abs(f[k]) <= zero_fraction * norm(f) ? 0.0 : f[k];
+  };
 
   // Builds the rows of condition `index` (displacements first, then tractions), weighted.
   auto fill = [&](std::size_t index, RowBlock& block) {
@@ -97,7 +114,7 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
       }
       for (int c = 0; c < 3; ++c) {
         for (int k = 0; k < 3; ++k) {
-          const double f = scaled ? sources[s].force[k] : 1.0;
+          const double f = scaled ? scaled_component(sources[s].force, k) : 1.0;
           block.rows[c][3 * s + k] = w * m(c, k) * f;
         }
       }
@@ -165,7 +182,7 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
       const int j = static_cast<int>(3 * s) + k;
       const double alpha = column_norm[j] > 0.0 ? scaled_solution(j) / column_norm[j] : 0.0;
       weights[s][k] = alpha;
-      effective[s][k] = scaled ? alpha * sources[s].force[k] : alpha;
+      effective[s][k] = scaled ? alpha * scaled_component(sources[s].force, k) : alpha;
     }
   }
 

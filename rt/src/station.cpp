@@ -179,7 +179,8 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
     probe_ids_.push_back(settings_.fingers[i]);
   }
   if (probes_.empty()) return;
-  if (static_cast<std::size_t>(frame_id_) < region_schedule_.size()) {
+  if (static_cast<std::size_t>(frame_id_) < region_schedule_.size() &&
+      region_schedule_[static_cast<std::size_t>(frame_id_)] > 0.0) {
     deformer_.set_region_radius(region_schedule_[static_cast<std::size_t>(frame_id_)]);
   } else {
     size_region(budget_ns);
@@ -202,18 +203,26 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
     const double sample = report_.deform_ns / (static_cast<double>(frame.region_points) * frame.collisions);
     cost_per_point_force_ns_ = cost_per_point_force_ns_ > 0.0 ? 0.8 * cost_per_point_force_ns_ + 0.2 * sample : sample;
   }
+  // Each frame the deformer applied is a frame of its own in the log (a split step holds
+  // several), with consecutive ids, so replay reproduces the step exactly.
+  const auto applied = deformer_.frames();
   if (recorder_) {
-    FrameRecord record;
-    record.tick = report_.tick;
-    record.time_s = static_cast<double>(now_ns_ - first_tick_ns_) * 1e-9;
-    record.frame_id = frame_id_;
-    record.report = &frame;
-    record.settings = &deformer_.settings();
-    record.fingers = probe_ids_;
-    record.probes = probes_;
-    recorder_->frame(record);
+    for (std::size_t k = 0; k < applied.size(); ++k) {
+      FrameRecord record;
+      record.tick = report_.tick;
+      record.time_s = static_cast<double>(now_ns_ - first_tick_ns_) * 1e-9;
+      record.frame_id = frame_id_ + static_cast<std::int64_t>(k);
+      record.report = &applied[k];
+      record.settings = &deformer_.settings();
+      record.fingers = probe_ids_;
+      record.probes = probes_;
+      recorder_->frame(record);
+    }
   }
-  ++frame_id_;
+  frame_id_ += static_cast<std::int64_t>(std::max<std::size_t>(applied.size(), 1));
+  totals_.guards += frame.guards;
+  report_.guards = frame.guards;
+  report_.min_jacobian = frame.min_jacobian;
   if (deformer_.drift() > rebuild_drift_) rebuilder_.request(deformer_.model(), deformer_.drift());
   for (std::size_t k = 0; k < probes_.size(); ++k) {
     const deform::ContactReport& c = frame.contacts[k];

@@ -51,6 +51,7 @@ FrameTransfer::FrameTransfer(deform::PointModel& target, const TransferOptions& 
   const std::size_t n = model_.size();
   points_.reserve(n);
   scratch_.reserve(n);
+  journal_.reserve(n, model_.has_normals());
   member_.assign(n, 0);
 }
 
@@ -128,7 +129,15 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
   // A radius region that catches no point moves nothing; an empty index list must not be read
   // as "all points".
   if (global || !points_.empty()) {
-    drift_ += deform::apply_displacements(model_, kernel, sources, points_, global, options_.field);
+    const deform::FieldResult moved =
+        deform::apply_displacements(model_, kernel, sources, points_, global, options_.field, true, &journal_);
+    if (!moved.finite) {
+      // Finite or nothing: a logged force of 1e300 must not turn the model into NaN.
+      journal_.restore(model_);
+      reject(id, "its forces give non-finite positions or normals; the model is left as before the frame");
+    }
+    min_jacobian_ = std::min(min_jacobian_, moved.min_jacobian);
+    drift_ += moved.max_displacement;
   }
   ++frames_;
   events_ += frame.size();

@@ -131,7 +131,7 @@ TEST(Scene, DefaultsAreApplied) {
   EXPECT_DOUBLE_EQ(s.material.poisson_ratio, 0.45);
   EXPECT_EQ(s.kernel.kind, deform::KernelKind::kKelvin);
   EXPECT_EQ(s.kernel.eps, 0.0);
-  EXPECT_EQ(s.deform.form, deform::WeightForm::kScale);
+  EXPECT_EQ(s.deform.form, deform::WeightForm::kForce);
   EXPECT_EQ(s.deform.mode, deform::ContactMode::kPush);
   // Left to the model's spacing, found when it loads.
   EXPECT_FALSE(s.deform.bc_radius);

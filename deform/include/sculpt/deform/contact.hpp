@@ -41,7 +41,8 @@ struct ProbeMotion {
 struct SurfaceSide {
   std::uint32_t nearest = PointIndex::kNoPoint;  ///< A, the nearest model point
   double distance = 0.0;                          ///< |P - A|
-  /// n_A . (P - A) with normals, (P - A) . (R - A) with a reference point: negative inside.
+  /// n_A . (P - A) with normals, (P - A) . (R - A)/|R - A| with a reference point: a signed
+  /// distance along the outside direction, negative inside.
   double side = 0.0;
 };
 
@@ -61,6 +62,7 @@ enum class SourceRule {
   kPrevious,    ///< the last probe position before the collision
   kEarlier,     ///< the one before it, because the previous was closer than Δd to A
   kPushedBack,  ///< no usable earlier position: moved back from A along -F to distance Δd
+  kCleared,     ///< the chosen point was too close to a model point: moved onto A's normal
 };
 
 struct ForceSetup {

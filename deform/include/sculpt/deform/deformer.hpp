@@ -3,6 +3,7 @@
 // -> solve -> move the region -> carry normals -> keep free fingers outside.
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -16,6 +17,56 @@
 
 namespace sculpt::deform {
 
+/// The stability guards of a frame (README "Stability"; MATH.md §4 and §6). Each one that acts
+/// is counted in the frame's GuardCounts; none is silent.
+struct GuardSettings {
+  /// A source keeps at least max(Δd, clearance_ratio |F|) from every model point. On the force
+  /// axis det(I + grad u) = (1 - U/h)(1 + U/(4(1 - nu)h))^2 with U = |F| at A, so a ratio of 2
+  /// keeps det near 0.5 or above there; off the axis the Jacobian guard below decides.
+  double clearance_ratio = 2.0;
+  /// Every moved point must keep det(I + grad u) above this. A frame that does not is undone
+  /// and re-run in smaller steps along the same force.
+  double min_jacobian = 0.2;
+  /// A folding frame is halved at most this often: at most 2^max_split_depth substeps.
+  int max_split_depth = 5;
+  /// The patch u0 = F covers at least this fraction of the points an eps-ball holds on the
+  /// undeformed model (the finger's own size), widened when a long push has thinned it.
+  double min_patch_fraction = 0.5;
+  /// Probes farther than this many bounding-box diagonals from the model's centre are dropped.
+  double probe_range = 1e3;
+
+  /// Throws std::invalid_argument naming the bad setting.
+  void validate() const;
+};
+
+/// How often each guard acted: per frame in FrameReport, summed by callers.
+struct GuardCounts {
+  std::uint32_t source_moved = 0;    ///< sources moved out to keep their clearance
+  std::uint32_t fold_splits = 0;     ///< a frame that would fold was undone and halved
+  std::uint32_t fold_rejected = 0;   ///< a substep still folding at the depth limit: undone, dropped
+  std::uint32_t non_finite = 0;      ///< a frame with a non-finite result: undone, dropped
+  std::uint32_t pushed_out = 0;      ///< fingers moved back out of the surface after a frame
+  std::uint32_t damped = 0;          ///< solves that fell back to Tikhonov damping
+  std::uint32_t probe_dropped = 0;   ///< probes not finite or out of range: ignored
+  std::uint32_t patch_widened = 0;   ///< contact patches widened to the finger's size
+
+  GuardCounts& operator+=(const GuardCounts& o) noexcept;
+  std::uint32_t total() const noexcept;
+};
+
+/// Visits every guard count with its name (for JSON, logs and reports).
+template <typename F>
+void for_each_guard(const GuardCounts& g, F&& f) {
+  f("source_moved", g.source_moved);
+  f("fold_splits", g.fold_splits);
+  f("fold_rejected", g.fold_rejected);
+  f("non_finite", g.non_finite);
+  f("pushed_out", g.pushed_out);
+  f("damped", g.damped);
+  f("probe_dropped", g.probe_dropped);
+  f("patch_widened", g.patch_widened);
+}
+
 struct DeformSettings {
   Kernel kernel;
   ContactSettings contact;
@@ -26,6 +77,7 @@ struct DeformSettings {
   /// (for haptic feedback). Needs normals; off leaves the work out entirely.
   bool traction = false;
   std::size_t max_probes = kMaxSources;
+  GuardSettings guards;
 };
 
 /// What happened to one probe in a frame.
@@ -34,6 +86,7 @@ enum class ProbeState {
   kGuarded,        ///< outside within Δr of the surface while another finger pressed: pinned its surface
   kCollided,       ///< crossed the surface: a source with force F
   kStartedInside,  ///< its previous position was already across the surface: ignored (no force)
+  kDropped,        ///< not finite, or out of the model's range: ignored and counted
 };
 
 struct ContactReport {
@@ -48,6 +101,9 @@ struct ContactReport {
   Vec3 effective_force;                           ///< f: logged, and used for traction
   std::size_t boundary_points = 0;                ///< points in the eps-neighbourhood of A
   double side_after = 0.0;                        ///< the probe's side after the frame (< 0 inside)
+  /// How far the probe was still across the surface after the frame, before any push-out
+  /// (0 when it ended outside): what the solve missed.
+  double miss = 0.0;
   bool pushed_out = false;                        ///< found across the surface after the frame and moved out
   Vec3 probe_after;                               ///< the probe position after the frame
   bool has_traction = false;
@@ -65,6 +121,10 @@ struct FrameReport {
   double max_displacement = 0.0;
   double max_contact_displacement = 0.0;  ///< largest over the contact neighbourhoods
   double max_border_displacement = 0.0;   ///< largest over the pinned band
+  double min_jacobian = 1.0;              ///< smallest det(I + grad u) over the moved points
+  double max_miss = 0.0;                  ///< largest ContactReport::miss
+  bool rejected = false;                  ///< undone by a guard: the model is as before it
+  GuardCounts guards;
 };
 
 /// Deforms one model frame by frame. Construction may allocate and throw (clear messages for
@@ -75,8 +135,16 @@ class Deformer {
   /// buffer a frame needs.
   Deformer(PointModel& model, const DeformSettings& settings);
 
-  /// Runs one collision frame for up to settings.max_probes probes, solved jointly.
+  /// Runs one collision frame for up to settings.max_probes probes, solved jointly. When the
+  /// frame would fold the material it is undone and run as substeps (see frames()); the report
+  /// returned is then the step as a whole: the last substep's contacts, with the traction
+  /// resultants, guard counts, collisions and moved points summed over the substeps.
   const FrameReport& deform(std::span<const ProbeMotion> probes) noexcept;
+
+  /// The frames the last deform() call applied to the model, in order: one when it ran whole,
+  /// several when it was split, none when it moved nothing or was undone. Each is a frame of
+  /// its own for the log, so that replay reproduces the step exactly.
+  std::span<const FrameReport> frames() const { return std::span(substeps_).first(applied_); }
 
   /// Largest distance any point moved since the index was built; queries stay exact.
   double drift() const { return drift_; }
@@ -102,10 +170,19 @@ class Deformer {
   const DeformSettings& settings() const { return settings_; }
 
  private:
-  std::size_t add_neighbourhood(const Vec3& centre, const Vec3& displacement, bool record);
-  double field_magnitude_max(std::span<const std::uint32_t> points) const;
-  void compute_tractions();
-  void keep_probes_outside(std::span<const ProbeMotion> probes);
+  enum class Outcome { kNothing, kApplied, kFolded, kNonFinite };
+  Outcome run_frame(std::span<const ProbeMotion> probes, FrameReport& r) noexcept;
+  void split_frame(std::span<const ProbeMotion> probes, const FrameReport& folded) noexcept;
+  void merge_step(std::size_t probe_count) noexcept;
+  bool probe_usable(const ProbeMotion& motion) const noexcept;
+  Vec3 outward(std::uint32_t point) const noexcept;
+  Vec3 clear_source(const Vec3& candidate, const Vec3& contact, std::uint32_t nearest, double clearance,
+                    bool& moved) const noexcept;
+  std::size_t add_neighbourhood(const Vec3& centre, const Vec3& displacement, bool record, bool widen,
+                                FrameReport& r) noexcept;
+  double field_magnitude_max(std::span<const std::uint32_t> points) const noexcept;
+  void compute_tractions(FrameReport& r) noexcept;
+  void keep_probes_outside(std::span<const ProbeMotion> probes, FrameReport& r) noexcept;
 
   PointModel& model_;
   DeformSettings settings_;
@@ -115,7 +192,17 @@ class Deformer {
   double point_area_ = 0.0;
   Region region_;
   WeightSolver solver_;
-  FrameReport report_;
+  FrameReport report_;                   // the step as a whole
+  std::vector<FrameReport> substeps_;    // 2^max_split_depth + 1 slots, reserved
+  std::size_t applied_ = 0;              // frames of the last step kept in substeps_
+  std::vector<ProbeMotion> sub_probes_;  // the motions of a substep
+  UndoJournal journal_;
+  FrameReport folded_;                   // what a folded first attempt decided
+  const FrameReport* last_ = nullptr;    // the last attempt of the step
+  GuardCounts carried_;                  // guards of attempts undone on the way
+  std::size_t min_patch_points_ = 1;
+  Vec3 centre_;
+  double probe_range_ = 0.0;             // farthest a probe may be from centre_
   std::vector<SourceSetup> sources_;
   std::vector<SourceForce> forces_;
   std::vector<Vec3> weights_, effective_;

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "sculpt/deform/kernel.hpp"
 #include "sculpt/deform/point_model.hpp"
@@ -32,13 +33,45 @@ struct FieldOptions {
   bool carry_normals = true;
 };
 
+/// The positions and normals a frame overwrote, so that a frame rejected after it ran (a fold,
+/// a non-finite value) can be undone bit for bit. Sized at set-up for the most points one frame
+/// may move; recording and restoring never allocate.
+class UndoJournal {
+ public:
+  /// Room for `points` moved points (with their normals when `normals`). Allocates.
+  void reserve(std::size_t points, bool normals);
+  std::size_t capacity() const { return index_.capacity(); }
+  std::size_t size() const { return index_.size(); }
+  void clear() noexcept { index_.clear(); old_.clear(); }
+  /// Writes the recorded values back, newest first. No allocation.
+  void restore(PointModel& model) const noexcept;
+
+ private:
+  friend struct JournalWriter;
+  std::vector<std::uint32_t> index_;
+  std::vector<float> old_;  // x, y, z[, nx, ny, nz] per recorded point
+  bool normals_ = false;
+};
+
+/// What a pass of the displacement loop did.
+struct FieldResult {
+  double max_displacement = 0.0;  ///< largest displacement length applied
+  /// Smallest det(I + grad u) over the moved points (MATH.md §6): <= 0 means the frame folded
+  /// the material there. 1 when nothing moved or the Jacobian was not asked for.
+  double min_jacobian = 1.0;
+  /// False when a displacement, a new position, a carried normal or a Jacobian was not finite
+  /// (the model then holds those values until the caller restores the journal).
+  bool finite = true;
+};
+
 /// Moves the points `indices` (ascending, unique) of `model` by the displacement of `sources`,
 /// evaluated at their positions before the move, and carries their normals along. With
-/// `indices` empty and `all_points` true, every point moves (contiguous, fastest). Returns the
-/// largest displacement length applied. No allocation; noexcept; at most kMaxSources sources.
-double apply_displacements(PointModel& model, const Kernel& kernel,
-                           std::span<const SourceForce> sources,
-                           std::span<const std::uint32_t> indices, bool all_points,
-                           const FieldOptions& options) noexcept;
+/// `indices` empty and `all_points` true, every point moves (contiguous, fastest). With
+/// `jacobian`, det(I + grad u) is evaluated at every moved point even when no normal is carried.
+/// With `journal` (cleared first, reserved for every moved point) the old values are recorded
+/// so the caller can undo the pass. No allocation; noexcept; at most kMaxSources sources.
+FieldResult apply_displacements(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
+                                std::span<const std::uint32_t> indices, bool all_points, const FieldOptions& options,
+                                bool jacobian = false, UndoJournal* journal = nullptr) noexcept;
 
 }  // namespace sculpt::deform

@@ -44,6 +44,8 @@ struct PointModel {
 
   /// Axis-aligned bounding box diagonal length (0 for an empty model).
   double bounding_box_diagonal() const;
+  /// Centre of the axis-aligned bounding box (the origin for an empty model).
+  Vec3 bounding_box_centre() const;
 };
 
 }  // namespace sculpt::deform

@@ -37,14 +37,23 @@ struct SourceSetup {
 };
 
 struct SolverOptions {
-  WeightForm form = WeightForm::kScale;
+  /// kForce by default: its effective forces are continuous in the input and turn with the
+  /// model (README "Weight forms"); kScale is kept for fidelity to the thesis's chapter 4.
+  WeightForm form = WeightForm::kForce;
   /// eps_f of thesis eq. 13: traction rows are weighted by sqrt(beta), beta = eps_f / E^2.
   double traction_eps = 1.0;
   /// Singular values below this fraction of the largest are treated as zero (rank deficiency:
-  /// a zero force component, duplicate conditions).
-  double rank_tolerance = 1e-10;
+  /// a zero force component, duplicate conditions): numerically zero in double.
+  double rank_tolerance = 1e-13;
   /// Past this condition number (after truncation) the solve falls back to Tikhonov damping.
-  double max_condition = 1e10;
+  /// Must stay below 1 / rank_tolerance, or truncation would always act first and damping never.
+  double max_condition = 1e8;
+  /// kScale: a component of F smaller than this fraction of |F| counts as zero, so float noise
+  /// (F_x = -1.2e-8 where it is 0 before a translation) pins it like an exact zero does.
+  double zero_component = 1e-6;
+
+  /// Throws std::invalid_argument naming the bad option.
+  void validate() const;
 };
 
 /// What every solve reports.
@@ -66,7 +75,7 @@ struct SolveReport {
 /// neither allocates nor throws, whatever the number of rows.
 class WeightSolver {
  public:
-  explicit WeightSolver(const SolverOptions& options = {}) : options_(options) {}
+  explicit WeightSolver(const SolverOptions& options = {}) : options_(options) { options_.validate(); }
 
   /// Writes the effective force of each source to `effective` and the raw weights to
   /// `weights` (both sized like `sources`, at most kMaxSources).

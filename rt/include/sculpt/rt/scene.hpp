@@ -71,7 +71,7 @@ struct KernelScene {
 /// model is loaded (bc_radius = 1, delta_s = 1, delta_d = 0.25, delta_r = 1.5 spacings), since
 /// scans differ in scale by three orders of magnitude.
 struct DeformScene {
-  deform::WeightForm form = deform::WeightForm::kScale;
+  deform::WeightForm form = deform::WeightForm::kForce;
   deform::ContactMode mode = deform::ContactMode::kPush;
   std::optional<double> bc_radius;  ///< eps: points this close to the contact follow the probe
   std::optional<double> delta_s;    ///< dead band: smaller fingertip moves are ignored

@@ -70,6 +70,8 @@ struct TickReport {
   double region_radius = 0.0;
   double deform_ns = 0.0;
   std::int64_t budget_ns = 0;
+  double min_jacobian = 1.0;     ///< of this tick's frame (1 without one)
+  deform::GuardCounts guards;    ///< the stability guards that acted this tick
 };
 
 /// Totals since start, for the summary.
@@ -83,6 +85,7 @@ struct StationTotals {
   double max_region_radius = 0.0;
   std::size_t max_region_points = 0;
   std::uint64_t index_rebuilds = 0;  ///< k-d trees rebuilt in the background and installed
+  deform::GuardCounts guards;        ///< every stability guard that acted, summed
 };
 
 /// Everything is allocated by the constructor; tick() allocates nothing, throws nothing and
@@ -97,8 +100,9 @@ class Station {
   void stop();
   /// Reports samples, fingertips, frames and haptic commands to `recorder` (set-up; may be null).
   void set_recorder(StationRecorder* recorder) { recorder_ = recorder; }
-  /// Replay: frame k uses radii[k] as its region radius instead of sizing it to the budget, so
-  /// a re-run reproduces the recorded session exactly. The span must outlive the station.
+  /// Replay: the step whose first frame has id k uses radii[k] as its region radius instead of
+  /// sizing it to the budget (0: no recorded radius), so a re-run reproduces the recorded
+  /// session exactly. The span must outlive the station.
   void set_region_schedule(std::span<const double> radii) { region_schedule_ = radii; }
 
   /// One tick at time `now_ns` (CLOCK_MONOTONIC) with `budget_ns` of the period left.

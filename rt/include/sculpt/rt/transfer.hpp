@@ -49,7 +49,8 @@ class FrameTransfer {
   /// Everything is checked before any point moves, so a rejected frame leaves the model as it
   /// was: throws std::invalid_argument (naming the frame id) for more than kMaxSources events,
   /// mixed frame ids, kernels or materials, an index-set region (its points are not in the
-  /// record), a non-positive radius, or a non-finite source or force. An empty frame does
+  /// record), a non-positive radius, or a non-finite source or force; a frame whose result is
+  /// not finite is undone (bit for bit) and rejected the same way. An empty frame does
   /// nothing. Allocates only when the index is rebuilt.
   void apply(std::span<const logging::CollisionRecord> frame);
 
@@ -58,6 +59,10 @@ class FrameTransfer {
   /// Largest distance any point may have moved since the index was built.
   double drift() const { return drift_; }
   std::size_t index_rebuilds() const { return rebuilds_; }
+  /// Smallest det(I + grad u) over every point any frame moved: <= 0 means a transferred frame
+  /// folded the target (possible on a model denser than the recording's; reported, not undone,
+  /// since the log is the edit history).
+  double min_jacobian() const { return min_jacobian_; }
   const deform::PointModel& model() const { return model_; }
 
  private:
@@ -69,6 +74,8 @@ class FrameTransfer {
   std::size_t frames_ = 0;
   std::size_t events_ = 0;
   std::size_t rebuilds_ = 0;
+  double min_jacobian_ = 1.0;
+  deform::UndoJournal journal_;
   std::vector<std::uint32_t> points_;
   std::vector<std::uint32_t> scratch_;
   std::vector<std::uint8_t> member_;  // per-point flag, all zero between frames
