@@ -218,7 +218,9 @@ class RunCommand final : public Command {
                              {"sequence_gaps", c.sequence_gaps}, {"overflows", c.overflows},
                              {"disconnects", c.disconnects},     {"reconnects", c.reconnects},
                              {"error_frames", c.error_frames},   {"bus_off", c.bus_off},
-                             {"stale_events", t.stale_events}};
+                             {"stale_events", t.stale_events},   {"out_of_range", t.out_of_range}};
+    nlohmann::json guards = nlohmann::json::object();
+    deform::for_each_guard(t.guards, [&](const char* name, std::uint32_t count) { guards[name] = count; });
     return {{"scene", scene_path_},
             {"rate_hz", loop.rate_hz()},
             {"achieved_rate_hz", loop.achieved_rate()},
@@ -237,6 +239,7 @@ class RunCommand final : public Command {
             {"max_region_radius", t.max_region_radius},
             {"index_rebuilds", t.index_rebuilds},
             {"faults", faults},
+            {"guards", guards},
             {"haptic_dropped", station.haptic() ? station.haptic()->dropped() : 0}};
   }
 

@@ -131,6 +131,9 @@ class LcmRecording final : public Recording, public rt::StationRecorder {
                     : t.glove == rt::GloveState::kStale ? sculpt_lcm::tick_stats_t::GLOVE_STALE
                                                         : sculpt_lcm::tick_stats_t::GLOVE_CONNECTING;
     r.glove_age_ms = static_cast<float>(t.glove_age_ms);
+    r.min_jacobian = static_cast<float>(t.min_jacobian);
+    r.guards_acted = static_cast<std::int32_t>(t.guards.total());
+    r.out_of_range = static_cast<std::int64_t>(t.out_of_range);
     if (log_) log_->record(r);
     if (publisher_) publisher_->publish(r);
   }

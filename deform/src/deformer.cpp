@@ -13,7 +13,7 @@ namespace sculpt::deform {
 namespace {
 
 // How many points the finger's patch (an eps-ball) holds on the undeformed model: the median
-// over an even sample, times `fraction`, at least 1.
+// over an even sample, times `fraction`, rounded up.
 std::size_t typical_patch_points(const PointModel& model, const PointIndex& index, double radius, double fraction) {
   const std::size_t n = model.size();
   const std::size_t samples = std::min<std::size_t>(n, 64);
@@ -25,7 +25,7 @@ std::size_t typical_patch_points(const PointModel& model, const PointIndex& inde
   }
   std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(samples / 2), counts.end());
   const double median = static_cast<double>(counts[samples / 2]);
-  return std::max<std::size_t>(1, static_cast<std::size_t>(std::floor(fraction * median)));
+  return std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(fraction * median)));
 }
 
 }  // namespace
@@ -202,30 +202,37 @@ Vec3 Deformer::outward(std::uint32_t point) const noexcept {
   return cs.mode == ContactMode::kPull ? -side : side;
 }
 
-Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, std::uint32_t nearest, double clearance,
-                            bool& moved) const noexcept {
+Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, const Vec3& force, std::uint32_t nearest,
+                            double clearance, bool& moved) const noexcept {
   moved = false;
   // Float positions: a source exactly at the clearance may measure a hair closer.
   const double enough = clearance * (1.0 - 1e-6);
   if (index_.nearest(model_, candidate, drift_).distance >= enough) return candidate;
   // MATH.md §4 and §6: a source next to any model point makes that point's displacement
-  // unbounded, and one off A's normal folds the material early; A's normal, on the side the
-  // probe came from, at the clearance is where a source folds last. A dent may bring other
-  // points closer than A, so the distance doubles until the clearance holds (four tries).
+  // unbounded, and one off the force's axis shears the patch and folds it early. First the
+  // way the probe came (-F, when it leaves on the allowed side): on the force axis, which keeps
+  // a straight push straight even where the carried normal has tilted; then A's normal, for a
+  // tangential stroke whose -F runs along the surface. A dent may bring other points closer
+  // than A, so each distance doubles until the clearance holds (four tries).
   moved = true;
   const Vec3 side = outward(nearest);
+  const Vec3 back = normalized(-force);
   Vec3 placed = candidate;
-  double distance = clearance;
-  for (int k = 0; k < 4; ++k, distance *= 2.0) {
-    placed = contact + side * distance;
-    if (index_.nearest(model_, placed, drift_).distance >= enough) break;
+  for (const Vec3& dir : {back, side}) {
+    if (!(dot(dir, side) > 0.5)) continue;  // within 60 degrees of the allowed side
+    double distance = clearance;
+    for (int k = 0; k < 4; ++k, distance *= 2.0) {
+      placed = contact + dir * distance;
+      if (index_.nearest(model_, placed, drift_).distance >= enough) return placed;
+    }
   }
   return placed;
 }
 
+bool Deformer::probe_in_range(const Vec3& p) const noexcept { return is_finite(p) && norm(p - centre_) <= probe_range_; }
+
 bool Deformer::probe_usable(const ProbeMotion& m) const noexcept {
-  auto ok = [&](const Vec3& p) { return is_finite(p) && norm(p - centre_) <= probe_range_; };
-  return ok(m.current) && ok(m.previous) && (!m.earlier || ok(*m.earlier));
+  return probe_in_range(m.current) && probe_in_range(m.previous) && (!m.earlier || probe_in_range(*m.earlier));
 }
 
 void Deformer::keep_probes_outside(std::span<const ProbeMotion> probes, FrameReport& r) noexcept {
@@ -298,9 +305,12 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
       continue;
     }
     ForceSetup setup = set_up_force(probes[p], c.contact, cs.min_source_distance);
-    const double clearance = std::max(cs.min_source_distance, settings_.guards.clearance_ratio * norm(setup.force));
+    // A fingertip of radius eps acts on the surface like a point force at its centre, eps behind
+    // the contact; a source closer than that concentrates the push on A alone (a needle).
+    const double clearance = std::max({cs.min_source_distance, settings_.guards.clearance_ratio * norm(setup.force),
+                                       settings_.guards.finger_radius_clearance ? cs.bc_radius : 0.0});
     bool moved = false;
-    setup.source = clear_source(setup.source, c.contact, now.nearest, clearance, moved);
+    setup.source = clear_source(setup.source, c.contact, setup.force, now.nearest, clearance, moved);
     if (moved) ++r.guards.source_moved;
     c.state = ProbeState::kCollided;
     c.source = setup.source;
@@ -439,7 +449,12 @@ void Deformer::split_frame(std::span<const ProbeMotion> probes, const FrameRepor
       break;
     }
     if (o == Outcome::kNonFinite) break;
-    if (o == Outcome::kApplied) ++applied_;
+    if (o == Outcome::kApplied) {
+      // The attempts undone before it belong to this frame's record.
+      r.guards += carried_;
+      carried_ = GuardCounts{};
+      ++applied_;
+    }
     done = t;
   }
 }

@@ -69,6 +69,9 @@ void to_lcm(const CollisionRecord& record, sculpt_lcm::collision_event_t& out) n
   out.condition = record.condition;
   out.frame_id = record.frame_id;
   out.frame_size = static_cast<std::int8_t>(record.frame_size);
+  out.min_jacobian = record.min_jacobian;
+  out.miss = record.miss;
+  for (std::size_t g = 0; g < record.guards.size(); ++g) out.guards[g] = record.guards[g];
 }
 
 void to_lcm(const TickRecord& record, sculpt_lcm::tick_stats_t& out) noexcept {
@@ -82,6 +85,9 @@ void to_lcm(const TickRecord& record, sculpt_lcm::tick_stats_t& out) noexcept {
   out.collisions = record.collisions;
   out.glove_state = record.glove_state;
   out.glove_age_ms = record.glove_age_ms;
+  out.min_jacobian = record.min_jacobian;
+  out.guards_acted = record.guards_acted;
+  out.out_of_range = record.out_of_range;
 }
 
 bool from_lcm(const sculpt_lcm::collision_event_t& m, CollisionRecord& out) noexcept {
@@ -129,6 +135,9 @@ bool from_lcm(const sculpt_lcm::collision_event_t& m, CollisionRecord& out) noex
   out.condition = m.condition;
   out.frame_id = m.frame_id;
   out.frame_size = static_cast<std::uint8_t>(m.frame_size);
+  out.min_jacobian = m.min_jacobian;
+  out.miss = m.miss;
+  for (std::size_t g = 0; g < out.guards.size(); ++g) out.guards[g] = m.guards[g];
   return true;
 }
 

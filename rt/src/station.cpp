@@ -141,6 +141,13 @@ void Station::update_fingers(std::int64_t) noexcept {
     const double t = static_cast<double>(sample.device_time_us) * 1e-6;
     f.filtered = settings_.filter_enabled ? to_vec3(track.filter.filter(to_array(f.raw), t)) : f.raw;
     f.registered = to_vec3(settings_.registration.apply(to_array(f.filtered)));
+    // A frame with a valid CRC may still carry 1e30: such a fingertip is dropped here, counted,
+    // and the filter forgets it so it cannot drag the next good sample.
+    if (!deformer_.probe_in_range(f.registered)) {
+      ++totals_.out_of_range;
+      track.filter.reset();
+      continue;
+    }
     track.accepted_this_tick = track.dead_band.offer(to_array(f.registered));
   }
   if (recorder_ && (fresh_[0] || fresh_[1])) {
@@ -291,6 +298,7 @@ const TickReport& Station::tick(std::int64_t now_ns, std::int64_t budget_ns) noe
   }
   stale_ = false;
   update_fingers(now_ns);
+  report_.out_of_range = totals_.out_of_range;
   const bool moved = std::any_of(tracks_.begin(), tracks_.end(), [](const Track& t) { return t.accepted_this_tick; });
   if (moved) {
     run_frame(budget_ns);

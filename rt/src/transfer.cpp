@@ -221,10 +221,16 @@ CollisionRecord collision_record(const deform::ContactReport& c, const deform::F
   r.poisson_ratio = k.material.poisson_ratio;
   r.form = settings.solver.form == deform::WeightForm::kForce ? logging::ForceForm::kForce
                                                               : logging::ForceForm::kScale;
-  r.residual = report.solve.residual;
+  r.residual = report.solve.relative_residual;  // the type and the docs say relative
   r.condition = report.solve.condition;
   r.frame_id = frame_id;
   r.frame_size = static_cast<std::uint8_t>(report.collisions);
+  r.min_jacobian = report.min_jacobian;
+  r.miss = c.miss;
+  std::size_t g = 0;
+  deform::for_each_guard(report.guards, [&](const char*, std::uint32_t count) {
+    if (g < r.guards.size()) r.guards[g++] = static_cast<std::int32_t>(std::min<std::uint32_t>(count, INT32_MAX));
+  });
   return r;
 }
 

@@ -62,7 +62,7 @@ enum class SourceRule {
   kPrevious,    ///< the last probe position before the collision
   kEarlier,     ///< the one before it, because the previous was closer than Δd to A
   kPushedBack,  ///< no usable earlier position: moved back from A along -F to distance Δd
-  kCleared,     ///< the chosen point was too close to a model point: moved onto A's normal
+  kCleared,     ///< the chosen point was too close to a model point: moved back along -F or A's normal
 };
 
 struct ForceSetup {

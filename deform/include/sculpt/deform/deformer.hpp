@@ -24,6 +24,9 @@ struct GuardSettings {
   /// axis det(I + grad u) = (1 - U/h)(1 + U/(4(1 - nu)h))^2 with U = |F| at A, so a ratio of 2
   /// keeps det near 0.5 or above there; off the axis the Jacobian guard below decides.
   double clearance_ratio = 2.0;
+  /// Sources also keep the finger's radius (the bc radius eps) from every model point: a
+  /// fingertip ball presses like a point force at its centre.
+  bool finger_radius_clearance = true;
   /// Every moved point must keep det(I + grad u) above this. A frame that does not is undone
   /// and re-run in smaller steps along the same force.
   double min_jacobian = 0.2;
@@ -31,7 +34,7 @@ struct GuardSettings {
   int max_split_depth = 5;
   /// The patch u0 = F covers at least this fraction of the points an eps-ball holds on the
   /// undeformed model (the finger's own size), widened when a long push has thinned it.
-  double min_patch_fraction = 0.5;
+  double min_patch_fraction = 0.75;
   /// Probes farther than this many bounding-box diagonals from the model's centre are dropped.
   double probe_range = 1e3;
 
@@ -168,6 +171,9 @@ class Deformer {
   std::span<const std::uint32_t> region_border() const { return region_.border(); }
   const PointModel& model() const { return model_; }
   const DeformSettings& settings() const { return settings_; }
+  /// A probe position the deformer accepts: finite and within guards.probe_range bounding-box
+  /// diagonals of the model's centre (so squared distances stay finite in float).
+  bool probe_in_range(const Vec3& p) const noexcept;
 
  private:
   enum class Outcome { kNothing, kApplied, kFolded, kNonFinite };
@@ -176,8 +182,8 @@ class Deformer {
   void merge_step(std::size_t probe_count) noexcept;
   bool probe_usable(const ProbeMotion& motion) const noexcept;
   Vec3 outward(std::uint32_t point) const noexcept;
-  Vec3 clear_source(const Vec3& candidate, const Vec3& contact, std::uint32_t nearest, double clearance,
-                    bool& moved) const noexcept;
+  Vec3 clear_source(const Vec3& candidate, const Vec3& contact, const Vec3& force, std::uint32_t nearest,
+                    double clearance, bool& moved) const noexcept;
   std::size_t add_neighbourhood(const Vec3& centre, const Vec3& displacement, bool record, bool widen,
                                 FrameReport& r) noexcept;
   double field_magnitude_max(std::span<const std::uint32_t> points) const noexcept;

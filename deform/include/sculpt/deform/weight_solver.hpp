@@ -49,8 +49,9 @@ struct SolverOptions {
   /// Must stay below 1 / rank_tolerance, or truncation would always act first and damping never.
   double max_condition = 1e8;
   /// kScale: a component of F smaller than this fraction of |F| counts as zero, so float noise
-  /// (F_x = -1.2e-8 where it is 0 before a translation) pins it like an exact zero does.
-  double zero_component = 1e-6;
+  /// (F_x = -1.2e-8 on |F| = 0.01, where it is 0 before a translation) pins it like an exact
+  /// zero does: about 100 float epsilons.
+  double zero_component = 1e-5;
 
   /// Throws std::invalid_argument naming the bad option.
   void validate() const;

@@ -68,6 +68,9 @@ struct CollisionRecord {
   double condition = 0.0;
   std::int64_t frame_id = 0;     ///< shared by the events of one jointly solved frame
   std::uint8_t frame_size = 1;   ///< how many events that frame has
+  double min_jacobian = 1.0;     ///< smallest det(I + grad u) the frame left
+  double miss = 0.0;             ///< probe depth across the surface after the solve
+  std::array<std::int32_t, 8> guards{};  ///< per stability guard, in deform::for_each_guard order
 };
 
 /// One tick's accounting (sculpt_lcm::tick_stats_t).
@@ -82,6 +85,9 @@ struct TickRecord {
   std::int16_t collisions = 0;
   std::int8_t glove_state = 0;  ///< sculpt_lcm::tick_stats_t::GLOVE_*
   float glove_age_ms = 0.0f;
+  float min_jacobian = 1.0f;
+  std::int32_t guards_acted = 0;
+  std::int64_t out_of_range = 0;
 };
 
 void to_lcm(const FingertipRecord& record, sculpt_lcm::fingertip_state_t& out) noexcept;

@@ -72,6 +72,7 @@ struct TickReport {
   std::int64_t budget_ns = 0;
   double min_jacobian = 1.0;     ///< of this tick's frame (1 without one)
   deform::GuardCounts guards;    ///< the stability guards that acted this tick
+  std::uint64_t out_of_range = 0;  ///< fingertips dropped so far (cumulative, as in the totals)
 };
 
 /// Totals since start, for the summary.
@@ -86,6 +87,7 @@ struct StationTotals {
   std::size_t max_region_points = 0;
   std::uint64_t index_rebuilds = 0;  ///< k-d trees rebuilt in the background and installed
   deform::GuardCounts guards;        ///< every stability guard that acted, summed
+  std::uint64_t out_of_range = 0;    ///< fingertips dropped: not finite or far outside the model
 };
 
 /// Everything is allocated by the constructor; tick() allocates nothing, throws nothing and
