@@ -44,7 +44,7 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   if (settings_.traction) {
     // Area per point from the mean nearest-neighbour spacing s (a square grid of pitch s has
     // s^2 per point): enough to turn traction into a resultant force for haptics.
-    const double spacing = mean_spacing(model_, index_);
+    const double spacing = typical_spacing(model_, index_).value;
     point_area_ = spacing * spacing;
   }
 }

@@ -12,9 +12,9 @@
 namespace sculpt::rt {
 namespace {
 
-std::string describe(const char* key, double value, const char* rule) {
-  char buffer[160];
-  std::snprintf(buffer, sizeof buffer, "%s = %.4g (%s)", key, value, rule);
+std::string describe(const char* key, double value, double factor, const std::string& statistic) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, "%s = %.4g (%g x the spacing, the %s)", key, value, factor, statistic.c_str());
   return buffer;
 }
 
@@ -57,7 +57,7 @@ StationSetup prepare_station(const Scene& scene) {
     s.notes.push_back("reduced model set: " + std::to_string(s.model.size()) + " of " + std::to_string(full) +
                       " points (heuristic.reduced_ratio)");
   }
-  s.spacing = deform::mean_spacing(s.model, deform::PointIndex(s.model));
+  s.spacing = deform::typical_spacing(s.model, deform::PointIndex(s.model));
 
   StationSettings& st = s.settings;
   st.rate_hz = scene.loop.rate_hz;
@@ -73,8 +73,9 @@ StationSetup prepare_station(const Scene& scene) {
   // unless the scene sets them (the thesis's sphere has a spacing of about 0.06).
   const auto pick = [&](const std::optional<double>& given, double factor, const char* key) {
     if (given) return *given;
-    s.notes.push_back(describe(key, factor * s.spacing, "derived from the mean point spacing"));
-    return factor * s.spacing;
+    const double value = factor * s.spacing.value;
+    s.notes.push_back(describe(key, value, factor, s.spacing.statistic));
+    return value;
   };
   deform::DeformSettings& d = st.deform;
   d.kernel = {scene.kernel.kind, scene.material, scene.kernel.eps};
