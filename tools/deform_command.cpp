@@ -14,6 +14,7 @@
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
+#include "sculpt/deform/settings_range.hpp"
 #include "vector_argument.hpp"
 
 namespace sculpt::tools {
@@ -93,7 +94,7 @@ class DeformCommand final : public Command {
       for (const std::string& text : contacts_) {
         std::string error;
         auto probe = parse_contact(text, error);
-        if (!probe) throw std::invalid_argument("--contact: " + error);
+        if (!probe) throw std::invalid_argument(contact_name(probes.size()) + ": " + error);
         probes.push_back(*probe);
       }
       if (probes.size() > deform::kMaxSources) {
@@ -173,6 +174,7 @@ class DeformCommand final : public Command {
     }
     settings.region.border_weight = border_weight_;
     settings.traction = model.has_normals();
+    check_against_model(settings, probes, model);
     contact.mode = choose_mode(model, probes, contact);
     deform::Deformer deformer(model, settings);
     const double setup_ms = ms_since(setup_start);
@@ -209,6 +211,26 @@ class DeformCommand final : public Command {
       throw deform::ModelFileError(model_path_, "", e.what());
     }
   }
+
+  // Settings and probes far outside the model's size are typos or hostile input; their squares
+  // would leave float's range next to the model's coordinates.
+  static void check_against_model(const deform::DeformSettings& settings,
+                                  const std::vector<deform::ProbeMotion>& probes, const deform::PointModel& model) {
+    deform::SettingNames names;
+    names.bc_radius = "--bc-radius";
+    names.min_source_distance = "--delta-d";
+    names.guard_distance = "--delta-r";
+    names.region_radius = "--region";
+    names.regularization = "--eps-reg";
+    deform::check_settings_against_model(settings, model, names);
+    const deform::ModelExtent extent = deform::ModelExtent::of(model);
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+      deform::check_position_against_model(contact_name(i) + " (before)", probes[i].previous, extent);
+      deform::check_position_against_model(contact_name(i) + " (after)", probes[i].current, extent);
+    }
+  }
+
+  static std::string contact_name(std::size_t index) { return "--contact " + std::to_string(index); }
 
   deform::ContactMode choose_mode(const deform::PointModel& model, const std::vector<deform::ProbeMotion>& probes,
                                   const deform::ContactSettings& contact) const {

@@ -68,7 +68,8 @@ void read_model(const Section& root, const std::string& base_dir, Scene& scene) 
 
 void read_material_and_kernel(const Section& root, Scene& scene) {
   const Section m = root.table("material", {"G", "nu"});
-  scene.material.shear_modulus = m.positive("G").value_or(scene.material.shear_modulus);
+  scene.material.shear_modulus =
+      m.number_in("G", 0.0, true, deform::kMaxShearModulus, false).value_or(scene.material.shear_modulus);
   scene.material.poisson_ratio =
       m.number_in("nu", -1.0, true, 0.5, false).value_or(scene.material.poisson_ratio);
 
