@@ -59,7 +59,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   const std::size_t fingers = static_cast<std::size_t>(state.range(0));
   PointModel model = *source;
   DeformSettings settings;
-  const double spacing = mean_spacing(model, PointIndex(model));
+  const double spacing = typical_spacing(model, PointIndex(model)).value;
   settings.contact.bc_radius = spacing;
   settings.contact.min_source_distance = 0.25 * spacing;
   settings.contact.guard_distance = 1.5 * spacing;

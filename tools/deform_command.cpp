@@ -14,6 +14,7 @@
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
+#include "sculpt/deform/settings_range.hpp"
 #include "vector_argument.hpp"
 
 namespace sculpt::tools {
@@ -72,9 +73,9 @@ class DeformCommand final : public Command {
         ->check(CLI::IsMember({"force", "scale"}))->default_val("force");
     sub_->add_option("--mode", mode_, "push | pull | auto (pull when every contact starts inside)")
         ->check(CLI::IsMember({"push", "pull", "auto"}))->default_val("auto");
-    bc_option_ = sub_->add_option("--bc-radius", bc_radius_, "eps: points this close to A follow the probe [mean spacing]");
-    dd_option_ = sub_->add_option("--delta-d", delta_d_, "Δd: least source distance from A [0.25 x mean spacing]");
-    dr_option_ = sub_->add_option("--delta-r", delta_r_, "Δr: a free finger this close pins its surface [1.5 x mean spacing]");
+    bc_option_ = sub_->add_option("--bc-radius", bc_radius_, "eps: points this close to A follow the probe [typical spacing]");
+    dd_option_ = sub_->add_option("--delta-d", delta_d_, "Δd: least source distance from A [0.25 x typical spacing]");
+    dr_option_ = sub_->add_option("--delta-r", delta_r_, "Δr: a free finger this close pins its surface [1.5 x typical spacing]");
     region_option_ = sub_->add_option("--region", region_radius_, "Move only points within this radius of a contact (default: all)");
     sub_->add_option("--border-weight", border_weight_, "Weight of the region's pinned band against a contact")->default_val(1.0);
     reference_option_ = sub_->add_option("--reference", reference_text_, "X,Y,Z point known to be outside (for models without normals)");
@@ -95,7 +96,7 @@ class DeformCommand final : public Command {
       for (const std::string& text : contacts_) {
         std::string error;
         auto probe = parse_contact(text, error);
-        if (!probe) throw std::invalid_argument("--contact: " + error);
+        if (!probe) throw std::invalid_argument(contact_name(probes.size()) + ": " + error);
         probes.push_back(*probe);
       }
       if (probes.size() > deform::kMaxSources) {
@@ -152,6 +153,9 @@ class DeformCommand final : public Command {
     const auto load_start = Clock::now();
     deform::PointModel model = deform::read_model(model_path_);
     const double load_ms = ms_since(load_start);
+    // The length scale first: without one (all points coincide) nothing below means anything,
+    // and the fault is the file's, so it is reported as the file's.
+    const deform::TypicalSpacing spacing = file_spacing(model);
     std::string normals_source = model.has_normals() ? "file" : "none";
     if (!model.has_normals() && !reference) {
       normals_source = model.triangles.empty() ? "estimated (PCA)" : "from faces";
@@ -159,13 +163,11 @@ class DeformCommand final : public Command {
     }
 
     const auto setup_start = Clock::now();
-    const double spacing = deform::mean_spacing(model, deform::PointIndex(model));
     deform::ContactSettings& contact = settings.contact;
-    contact.bc_radius = bc_option_->count() ? bc_radius_ : spacing;
-    contact.min_source_distance = dd_option_->count() ? delta_d_ : 0.25 * spacing;
-    contact.guard_distance = dr_option_->count() ? delta_r_ : 1.5 * spacing;
+    contact.bc_radius = bc_option_->count() ? bc_radius_ : spacing.value;
+    contact.min_source_distance = dd_option_->count() ? delta_d_ : 0.25 * spacing.value;
+    contact.guard_distance = dr_option_->count() ? delta_r_ : 1.5 * spacing.value;
     contact.reference = reference;
-    contact.mode = choose_mode(model, probes, contact);
     settings.solver.form = form_ == "force" ? deform::WeightForm::kForce : deform::WeightForm::kScale;
     settings.field.precision = use_double_ ? deform::Precision::kDouble : deform::Precision::kFloat;
     if (region_option_->count()) {
@@ -174,6 +176,8 @@ class DeformCommand final : public Command {
     }
     settings.region.border_weight = border_weight_;
     settings.traction = model.has_normals();
+    check_against_model(settings, probes, model);
+    contact.mode = choose_mode(model, probes, contact);
     deform::Deformer deformer(model, settings);
     const double setup_ms = ms_since(setup_start);
 
@@ -193,7 +197,7 @@ class DeformCommand final : public Command {
 
     nlohmann::json json = make_json(model, settings, normals_source, spacing, report, deformer.frames().size());
     json["time_ms"] = {{"load", load_ms}, {"setup", setup_ms}, {"frame", frame_ms}, {"write", write_ms}};
-    print_summary(model, settings, normals_source, report, frame_ms);
+    print_summary(model, settings, normals_source, spacing, report, frame_ms);
     if (!json_path_.empty()) {
       std::ofstream file(json_path_);
       file << json.dump(2) << "\n";
@@ -201,6 +205,34 @@ class DeformCommand final : public Command {
     }
     return kExitOk;
   }
+
+  deform::TypicalSpacing file_spacing(const deform::PointModel& model) const {
+    try {
+      return deform::typical_spacing(model, deform::PointIndex(model));
+    } catch (const std::invalid_argument& e) {
+      throw deform::ModelFileError(model_path_, "", e.what());
+    }
+  }
+
+  // Settings and probes far outside the model's size are typos or hostile input; their squares
+  // would leave float's range next to the model's coordinates.
+  static void check_against_model(const deform::DeformSettings& settings,
+                                  const std::vector<deform::ProbeMotion>& probes, const deform::PointModel& model) {
+    deform::SettingNames names;
+    names.bc_radius = "--bc-radius";
+    names.min_source_distance = "--delta-d";
+    names.guard_distance = "--delta-r";
+    names.region_radius = "--region";
+    names.regularization = "--eps-reg";
+    deform::check_settings_against_model(settings, model, names);
+    const deform::ModelExtent extent = deform::ModelExtent::of(model);
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+      deform::check_position_against_model(contact_name(i) + " (before)", probes[i].previous, extent);
+      deform::check_position_against_model(contact_name(i) + " (after)", probes[i].current, extent);
+    }
+  }
+
+  static std::string contact_name(std::size_t index) { return "--contact " + std::to_string(index); }
 
   deform::ContactMode choose_mode(const deform::PointModel& model, const std::vector<deform::ProbeMotion>& probes,
                                   const deform::ContactSettings& contact) const {
@@ -214,7 +246,7 @@ class DeformCommand final : public Command {
   }
 
   nlohmann::json make_json(const deform::PointModel& model, const deform::DeformSettings& s,
-                           const std::string& normals_source, double spacing,
+                           const std::string& normals_source, const deform::TypicalSpacing& spacing,
                            const deform::FrameReport& r, std::size_t frames_applied) const {
     using nlohmann::json;
     json solve = {{"ok", r.solve.ok},
@@ -270,7 +302,8 @@ class DeformCommand final : public Command {
             {"form", form_},
             {"mode", s.contact.mode == deform::ContactMode::kPush ? "push" : "pull"},
             {"precision", use_double_ ? "double" : "float"},
-            {"mean_spacing", spacing},
+            {"spacing", spacing.value},
+            {"spacing_statistic", spacing.statistic},
             {"bc_radius", s.contact.bc_radius},
             {"delta_d", s.contact.min_source_distance},
             {"delta_r", s.contact.guard_distance},
@@ -292,13 +325,16 @@ class DeformCommand final : public Command {
   }
 
   void print_summary(const deform::PointModel& model, const deform::DeformSettings& s,
-                     const std::string& normals_source, const deform::FrameReport& r, double frame_ms) const {
-    std::printf("model    %s: %zu points, normals %s\n", model_path_.c_str(), model.size(), normals_source.c_str());
+                     const std::string& normals_source, const deform::TypicalSpacing& spacing,
+                     const deform::FrameReport& r, double frame_ms) const {
+    std::printf("model    %s: %zu points, normals %s, spacing %.4g (%s)\n", model_path_.c_str(), model.size(),
+                normals_source.c_str(), spacing.value, spacing.statistic.c_str());
+    char region[32] = "global";
+    if (region_option_->count()) std::snprintf(region, sizeof region, "%.4g", region_radius_);
     std::printf("settings %s kernel, G %.4g, nu %.4g, %s form, %s, eps %.4g, delta_d %.4g, delta_r %.4g, region %s\n",
                 kernel_.c_str(), s.kernel.material.shear_modulus, s.kernel.material.poisson_ratio, form_.c_str(),
                 s.contact.mode == deform::ContactMode::kPush ? "push" : "pull", s.contact.bc_radius,
-                s.contact.min_source_distance, s.contact.guard_distance,
-                region_option_->count() ? std::to_string(region_radius_).c_str() : "global");
+                s.contact.min_source_distance, s.contact.guard_distance, region);
     for (std::size_t i = 0; i < contacts_.size(); ++i) {
       const deform::ContactReport& c = r.contacts[i];
       std::printf("contact  %zu: %s, nearest #%u %s at %.4g", i, state_name(c.state), c.nearest,

@@ -91,8 +91,9 @@ class RunCommand final : public Command {
   int run_station(const rt::Scene& scene) {
     rt::StationSetup setup = rt::prepare_station(scene);
     std::unique_ptr<rt::Station> station = rt::make_station(setup, scene);
-    std::printf("scene    %s\nmodel    %s: %zu points, normals %s, mean spacing %.4g\n", scene_path_.c_str(),
-                scene.model.path.c_str(), setup.model.size(), setup.normals_source.c_str(), setup.spacing);
+    std::printf("scene    %s\nmodel    %s: %zu points, normals %s, spacing %.4g (%s)\n", scene_path_.c_str(),
+                scene.model.path.c_str(), setup.model.size(), setup.normals_source.c_str(), setup.spacing.value,
+                setup.spacing.statistic.c_str());
     for (const std::string& note : setup.notes) std::printf("default  %s\n", note.c_str());
     if (setup.calibration) {
       std::printf("register calibrated from %zu landmarks: rms residual %.4g, max %.4g\n",

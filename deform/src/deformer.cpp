@@ -97,9 +97,9 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   // a frame needing more than this grows the vector once and keeps it.
   conditions_.reserve(std::min<std::size_t>(2 * n, n + 4096));
   if (settings_.traction) {
-    // Area per point from the mean nearest-neighbour spacing s (a square grid of pitch s has
+    // Area per point from the typical nearest-neighbour spacing s (a square grid of pitch s has
     // s^2 per point): enough to turn traction into a resultant force for haptics.
-    const double spacing = mean_spacing(model_, index_);
+    const double spacing = typical_spacing(model_, index_).value;
     point_area_ = spacing * spacing;
   }
 }

@@ -2,28 +2,36 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
 namespace sculpt::deform {
 
+namespace {
+
+// Streams print %g-style: a tiny value stays readable, where std::to_string would print 0.000000.
+[[noreturn]] void refuse(const char* what, double value) {
+  std::ostringstream text;
+  text << what << ", got " << value;
+  throw std::invalid_argument(text.str());
+}
+
+}  // namespace
+
 void Material::validate() const {
-  if (!(shear_modulus > 0.0) || !std::isfinite(shear_modulus)) {
-    throw std::invalid_argument("material: shear modulus G must be a positive finite number, got " +
-                                std::to_string(shear_modulus));
+  if (!(shear_modulus > 0.0 && shear_modulus <= kMaxShearModulus)) {
+    refuse("material: shear modulus G must lie in (0, 1e15]", shear_modulus);
   }
   if (!(poisson_ratio > -1.0 && poisson_ratio <= 0.5)) {
-    throw std::invalid_argument("material: Poisson's ratio nu must lie in (-1, 0.5], got " +
-                                std::to_string(poisson_ratio));
+    refuse("material: Poisson's ratio nu must lie in (-1, 0.5]", poisson_ratio);
   }
 }
 
 void Kernel::validate() const {
   material.validate();
   if (kind == KernelKind::kRegularized && !(regularization > 0.0 && std::isfinite(regularization))) {
-    throw std::invalid_argument(
-        "kernel: the regularized Kelvinlet needs a positive radius eps, got " +
-        std::to_string(regularization));
+    refuse("kernel: the regularized Kelvinlet needs a positive finite radius eps", regularization);
   }
 }
 

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "coordinate_range.hpp"
 #include "file_bytes.hpp"
 #include "number_text.hpp"
 #include "sculpt/deform/model_io.hpp"
@@ -172,6 +173,8 @@ class OffParser {
                         (!m.has_normals() || (std::isfinite(m.nx[i]) && std::isfinite(m.ny[i]) &&
                                               std::isfinite(m.nz[i])));
     if (!finite) fail("non-finite coordinate in vertex " + std::to_string(i));
+    const std::string range = coordinate_range_problem(m.x[i], m.y[i], m.z[i], "vertex", i);
+    if (!range.empty()) fail(range);
   }
 
   void read_faces(std::uint64_t count, PointModel& model) {

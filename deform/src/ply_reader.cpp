@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "coordinate_range.hpp"
 #include "file_bytes.hpp"
 #include "number_text.hpp"
 #include "ply_header.hpp"
@@ -462,6 +463,8 @@ void read_vertices(Source& source, const PlyElement& vertex, const VertexPlan& p
     if (const char* bad = non_finite_component(model, i)) {
       source.fail("non-finite " + quoted(bad) + " in vertex " + std::to_string(i));
     }
+    const std::string range = coordinate_range_problem(model.x[i], model.y[i], model.z[i], "vertex", i);
+    if (!range.empty()) source.fail(range);
   }
 }
 

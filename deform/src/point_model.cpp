@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "coordinate_range.hpp"
+
 namespace sculpt::deform {
 
 void PointModel::set_position(std::size_t i, const Vec3& p) {
@@ -77,10 +79,8 @@ void PointModel::validate() const {
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i])) {
-      throw std::invalid_argument("point model: point " + std::to_string(i) +
-                                  " has a non-finite coordinate");
-    }
+    const std::string problem = coordinate_range_problem(x[i], y[i], z[i], "point", i);
+    if (!problem.empty()) throw std::invalid_argument("point model: " + problem);
   }
 }
 

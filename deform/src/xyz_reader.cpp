@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "coordinate_range.hpp"
 #include "file_bytes.hpp"
 #include "number_text.hpp"
 #include "sculpt/deform/model_io.hpp"
@@ -58,6 +59,8 @@ PointModel read_xyz_from_buffer(std::string_view text, const std::string& name_f
         fail(std::string("non-finite '") + kColumnNames[k] + "' in point " + std::to_string(i));
       }
     }
+    const std::string range = coordinate_range_problem(v[0], v[1], v[2], "point", i);
+    if (!range.empty()) fail(range);
     model.x.push_back(v[0]);
     model.y.push_back(v[1]);
     model.z.push_back(v[2]);

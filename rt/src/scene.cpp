@@ -68,7 +68,10 @@ void read_model(const Section& root, const std::string& base_dir, Scene& scene) 
 
 void read_material_and_kernel(const Section& root, Scene& scene) {
   const Section m = root.table("material", {"G", "nu"});
-  scene.material.shear_modulus = m.positive("G").value_or(scene.material.shear_modulus);
+  if (const auto g = m.positive("G")) {
+    m.check(*g <= deform::kMaxShearModulus, "G", "out of range: " + show(*g) + " is above 1e15");
+    scene.material.shear_modulus = *g;
+  }
   scene.material.poisson_ratio =
       m.number_in("nu", -1.0, true, 0.5, false).value_or(scene.material.poisson_ratio);
 

@@ -46,7 +46,7 @@ deform::DeformSettings prepared(StationSettings& s, const deform::PointModel& mo
       break;
     case RegionPolicy::Kind::kAuto: {
       d.region.kind = deform::RegionSettings::Kind::kRadius;
-      const double spacing = deform::mean_spacing(model, deform::PointIndex(model));
+      const double spacing = deform::typical_spacing(model, deform::PointIndex(model)).value;
       const double floor = 1.5 * (d.contact.bc_radius + std::max(d.region.border_width, d.contact.bc_radius));
       d.region.radius = std::max(s.region.radius > 0.0 ? s.region.radius : 10.0 * spacing, floor);
       if (!(s.region.budget_fraction > 0.0 && s.region.budget_fraction <= 1.0)) {

@@ -6,15 +6,17 @@
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
+#include "sculpt/deform/settings_range.hpp"
 #include "sculpt/hal/backend_factory.hpp"
 #include "sculpt/rt/reduced_model.hpp"
 
 namespace sculpt::rt {
 namespace {
 
-std::string describe(const char* key, double value, const char* rule) {
+// The spacing and its statistic are printed once beside the model; each note refers to them.
+std::string describe(const char* key, double value, double factor) {
   char buffer[160];
-  std::snprintf(buffer, sizeof buffer, "%s = %.4g (%s)", key, value, rule);
+  std::snprintf(buffer, sizeof buffer, "%s = %.4g (%g x the model's spacing)", key, value, factor);
   return buffer;
 }
 
@@ -43,6 +45,28 @@ void load_normals(StationSetup& s, const Scene& scene) {
   }
 }
 
+// The scene's lengths were checked for sign and finiteness when it was read; against the model
+// they can be checked only once it is loaded. Messages name the scene key and the scene file.
+void check_against_model(const StationSetup& s, const Scene& scene) {
+  try {
+    deform::SettingNames names;
+    names.bc_radius = "deform.bc_radius";
+    names.min_source_distance = "deform.delta_d";
+    names.guard_distance = "deform.delta_r";
+    names.regularization = "kernel.eps";
+    deform::check_settings_against_model(s.settings.deform, s.model, names);
+    const deform::ModelExtent extent = deform::ModelExtent::of(s.model);
+    deform::check_length_against_model("deform.delta_s", s.settings.delta_s, deform::LengthRule::kNonNegative,
+                                       extent);
+    if (s.settings.region.kind == RegionPolicy::Kind::kRadius) {
+      deform::check_length_against_model("heuristic.region", s.settings.region.radius, deform::LengthRule::kPositive,
+                                         extent);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(scene.file + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 StationSetup prepare_station(const Scene& scene) {
@@ -57,7 +81,7 @@ StationSetup prepare_station(const Scene& scene) {
     s.notes.push_back("reduced model set: " + std::to_string(s.model.size()) + " of " + std::to_string(full) +
                       " points (heuristic.reduced_ratio)");
   }
-  s.spacing = deform::mean_spacing(s.model, deform::PointIndex(s.model));
+  s.spacing = deform::typical_spacing(s.model, deform::PointIndex(s.model));
 
   StationSettings& st = s.settings;
   st.rate_hz = scene.loop.rate_hz;
@@ -73,8 +97,9 @@ StationSetup prepare_station(const Scene& scene) {
   // unless the scene sets them (the thesis's sphere has a spacing of about 0.06).
   const auto pick = [&](const std::optional<double>& given, double factor, const char* key) {
     if (given) return *given;
-    s.notes.push_back(describe(key, factor * s.spacing, "derived from the mean point spacing"));
-    return factor * s.spacing;
+    const double value = factor * s.spacing.value;
+    s.notes.push_back(describe(key, value, factor));
+    return value;
   };
   deform::DeformSettings& d = st.deform;
   d.kernel = {scene.kernel.kind, scene.material, scene.kernel.eps};
@@ -95,6 +120,7 @@ StationSetup prepare_station(const Scene& scene) {
   }
   st.region.radius = scene.heuristic.region_radius;
   st.region.budget_fraction = scene.heuristic.budget_fraction;
+  check_against_model(s, scene);
 
   if (!scene.registration.landmarks.empty()) {
     std::vector<std::array<double, 3>> glove, model;

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 namespace sculpt::deform {
 namespace {
@@ -194,6 +196,18 @@ TEST(KernelSettings, InvalidMaterialsAndRadiiAreRejected) {
   EXPECT_NO_THROW(kelvin(3e7, 0.5).validate());
   EXPECT_THROW(regularized(3e7, 0.3, 0.0).validate(), std::invalid_argument);
   EXPECT_NO_THROW(regularized(3e7, 0.3, 0.1).validate());
+  // G is bounded above too (kMaxShearModulus), and NaN fails every comparison.
+  EXPECT_NO_THROW(kelvin(1e15, 0.3).validate());
+  EXPECT_THROW(kelvin(1.01e15, 0.3).validate(), std::invalid_argument);
+  EXPECT_THROW(kelvin(std::nan(""), 0.3).validate(), std::invalid_argument);
+  EXPECT_THROW(kelvin(3e7, std::nan("")).validate(), std::invalid_argument);
+  EXPECT_NO_THROW(kelvin(1e-9, 0.3).validate());
+  try {
+    kelvin(-1e-9, 0.3).validate();
+    ADD_FAILURE() << "accepted a negative G";  // its message prints it %g-style, not 0.000000
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("got -1e-09"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -216,7 +216,7 @@ TEST(XyzWriter, RoundTripsFloatsExactly) {
   for (std::size_t i = 0; i < model.size(); ++i) {
     model.x[i] = any(rng);
     model.y[i] = any(rng) * 1e-9F;
-    model.z[i] = i == 0 ? -0.0F : any(rng) * 1e20F;
+    model.z[i] = i == 0 ? -0.0F : any(rng) * 1e11F;  // up to 1e17, below kMaxCoordinate
     model.nx[i] = any(rng);
     model.ny[i] = 0.1F;
     model.nz[i] = std::numeric_limits<float>::denorm_min();

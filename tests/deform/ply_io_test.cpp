@@ -116,8 +116,10 @@ class PlyBuilder {
 };
 
 // A model with awkward floats mixed in: signed zero, denormals, extremes and values with no
-// short decimal form, so "bit-exact" really is tested.
+// short decimal form, so "bit-exact" really is tested. The extremes are the largest magnitudes
+// a model may hold (just below kMaxCoordinate), since larger ones are refused.
 PointModel awkward_model(std::size_t n, bool normals, bool colors, bool alpha, unsigned seed) {
+  const float kLargest = std::nextafter(static_cast<float>(kMaxCoordinate), 0.0F);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> coord(-1000.0F, 1000.0F);
   std::uniform_int_distribution<int> byte(0, 255);
@@ -126,13 +128,13 @@ PointModel awkward_model(std::size_t n, bool normals, bool colors, bool alpha, u
                             std::numeric_limits<float>::denorm_min(),
                             -std::numeric_limits<float>::denorm_min(),
                             std::numeric_limits<float>::min(),
-                            std::numeric_limits<float>::max(),
-                            std::numeric_limits<float>::lowest(),
+                            kLargest,
+                            -kLargest,
                             1.0F / 3.0F,
                             0.1F,
                             16777217.0F,
                             1e-30F,
-                            3.4e38F};
+                            9.99e17F};
   PointModel m;
   m.resize(n, normals, colors, alpha);
   for (std::size_t i = 0; i < n; ++i) {

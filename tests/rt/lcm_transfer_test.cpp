@@ -273,7 +273,7 @@ Experiment run_experiment(const deform::PointModel& full, const std::vector<Vec3
                           const std::vector<Vec3>& normals, double diagonal, bool radius_region) {
   deform::PointModel reduced = reduced_model(full, 0.1);
   deform::PointIndex reduced_index(reduced);
-  const double spacing = deform::mean_spacing(reduced, reduced_index);
+  const double spacing = deform::typical_spacing(reduced, reduced_index).value;
   deform::DeformSettings s;
   // Scale-free settings taken from the reduced model's spacing, the model the artist sees.
   s.contact.bc_radius = 1.5 * spacing;

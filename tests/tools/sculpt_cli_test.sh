@@ -107,6 +107,18 @@ expect_exit 2 "region too small" -- "$SCULPT" deform --model "$sphere" --contact
 one_line_error "region error names the radius" "region"
 expect_exit 2 "unknown option" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --frobnicate
 one_line_error "unknown option named" "frobnicate"
+# Out of range against the model (unit sphere, diagonal 3.46): named, exit 2.
+expect_exit 2 "contact far away" -- "$SCULPT" deform --model "$sphere" --contact 1e20,0,0:0,0,0.9
+one_line_error "far contact names the option and index" "--contact 0 (before): (1e+20, 0, 0) is 1e+20 from the model's centre"
+expect_exit 2 "second contact far away" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --contact 1,0,0:0,-1e20,0
+one_line_error "far second contact names index 1" "--contact 1 (after)"
+expect_exit 2 "huge delta-d" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --delta-d 1e30
+one_line_error "huge delta-d named" "--delta-d = 1e+30 is too large"
+expect_exit 2 "huge G" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --G 1e16
+one_line_error "huge G named" "shear modulus G must lie in (0, 1e15\], got 1e+16"
+expect_exit 0 "spacing statistic reported" -- "$SCULPT" deform --model "$sphere" --contact 0,0,2:0,0,1.5 --json "$work/report.json"
+expect_json "spacing and its statistic in the report" "abs(j['spacing'] - 0.06) < 0.005 and j['spacing_statistic'].startswith('median nearest-neighbour distance over distinct points')"
+if grep -q "spacing 0.06.* (median nearest-neighbour distance over distinct points" "$work/out"; then ok "spacing statistic printed"; else bad "spacing statistic not printed: $(head -1 "$work/out")"; fi
 
 # Bad model files: exit 1, the file named.
 expect_exit 1 "missing model" -- "$SCULPT" deform --model "$work/nope.ply" --contact 0,0,1.1:0,0,0.9
@@ -114,6 +126,23 @@ one_line_error "missing model named" "nope.ply"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 1\n' >"$work/broken.ply"
 expect_exit 1 "truncated model" -- "$SCULPT" deform --model "$work/broken.ply" --contact 0,0,1.1:0,0,0.9
 one_line_error "truncated model names file and line" "broken.ply: line"
+# refused_model NAME FILE TEXT MESSAGE: a model file holding TEXT (backslash escapes expanded)
+# is refused with exit 1 and one line on stderr containing MESSAGE.
+refused_model() {
+  printf '%b' "$3" >"$work/$2"
+  expect_exit 1 "$1" -- "$SCULPT" deform --model "$work/$2" --reference 0,0,10 --contact 0,0,1.1:0,0,0.9
+  one_line_error "$1: named with the file" "$4"
+}
+# Coordinates must stay below 1e18 in magnitude (FLT_MAX is finite but its squares are not).
+refused_model "vertex at FLT_MAX in a PLY" huge.ply \
+  'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n3.4028235e38 0 0\n' \
+  "huge.ply: line 9: 'x' = 3.40282e+38 in vertex 1 is out of range"
+refused_model "point at FLT_MAX in an XYZ" huge.xyz '0 0 0\n0 -3.4028235e38 0\n' \
+  "huge.xyz: line 2: 'y' = -3.40282e+38 in point 1 is out of range"
+refused_model "vertex at FLT_MAX in an OFF" huge.off 'OFF\n2 0 0\n0 0 0\n0 0 3.4028235e38\n' \
+  "huge.off: line 4: 'z' = 3.40282e+38 in vertex 1 is out of range"
+refused_model "coincident model" same.xyz '1 2 3\n1 2 3\n1 2 3\n' \
+  "same.xyz: the model's points all coincide: no length scale"
 
 # The station: a short run, then scene errors.
 scenes="$repo/scenes"
@@ -127,6 +156,18 @@ if grep -q ratee_hz "$work/typo.toml"; then
 else
   bad "could not plant a typo in sphere-press.toml (rate_hz line changed?)"
 fi
+# Scene lengths are checked against the model once it is loaded, named by their key.
+# deform_scene LINE FILE: sphere-press with LINE added to [deform] and its data path absolute.
+deform_scene() {
+  sed "s|\.\./data/|$repo/data/|; s|^mode = \"push\"|mode = \"push\"\n$1|" "$scenes/sphere-press.toml" >"$2"
+  grep -q "^$1\$" "$2" || bad "could not add '$1' to sphere-press.toml (its mode line changed?)"
+}
+deform_scene "delta_d = 1e30" "$work/huge-delta.toml"
+expect_exit 1 "scene with a huge delta_d" -- "$SCULPT" run "$work/huge-delta.toml" --duration 1
+one_line_error "huge delta_d named by its key" "huge-delta.toml: deform.delta_d = 1e+30 is too large"
+deform_scene "delta_d = nan" "$work/nan-delta.toml"
+expect_exit 2 "scene with a NaN" -- "$SCULPT" run "$work/nan-delta.toml" --duration 1
+one_line_error "NaN named by its key" "nan-delta.toml:[0-9]*:[0-9]*: deform.delta_d: must be finite"
 expect_exit 2 "missing scene" -- "$SCULPT" run "$work/none.toml"
 one_line_error "missing scene named" "none.toml"
 expect_exit 2 "glove-sim needs a transport" -- "$SCULPT" glove-sim "$scenes/sphere-press.toml"

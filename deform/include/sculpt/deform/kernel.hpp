@@ -7,8 +7,13 @@
 namespace sculpt::deform {
 
 /// Isotropic linear-elastic material.
+/// Largest shear modulus accepted. The solved forces grow with G (a force moving a point by a
+/// length L at distance R is about G L R), so past this they, and their products with model
+/// lengths, leave the range the float loop can carry.
+inline constexpr double kMaxShearModulus = 1e15;
+
 struct Material {
-  double shear_modulus = 3e7;   ///< G, in force per area of the model's units
+  double shear_modulus = 3e7;   ///< G, in force per area of the model's units; in (0, kMaxShearModulus]
   double poisson_ratio = 0.45;  ///< nu, in (-1, 0.5]; 0.5 is the incompressible limit
 
   double young_modulus() const { return 2.0 * shear_modulus * (1.0 + poisson_ratio); }

@@ -9,6 +9,10 @@
 
 namespace sculpt::deform {
 
+/// Coordinates must be finite and below this in magnitude: a difference of two is then below
+/// 2e18 and a squared distance below 1.2e37, finite even in float (FLT_MAX is 3.4e38).
+inline constexpr double kMaxCoordinate = 1e18;
+
 /// A point cloud stored as structure of arrays: each attribute is one contiguous float (or
 /// byte) array, so the deformation loops read and write them with aligned SIMD lanes and no
 /// gathers. Optional attributes are empty arrays when the model does not have them; a model
@@ -39,7 +43,8 @@ struct PointModel {
   void clear_normals();
 
   /// Throws std::invalid_argument naming the attribute when array sizes disagree, a triangle
-  /// index is out of range, or a coordinate is not finite.
+  /// index is out of range, or a coordinate is not finite or not below kMaxCoordinate in
+  /// magnitude (naming the point).
   void validate() const;
 
   /// Axis-aligned bounding box diagonal length (0 for an empty model).

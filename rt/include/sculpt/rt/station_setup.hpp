@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/rt/scene.hpp"
 #include "sculpt/rt/similarity_transform.hpp"
@@ -18,7 +19,7 @@ struct StationSetup {
   deform::PointModel model;
   StationSettings settings;
   std::string normals_source;          ///< "file", "from faces", "estimated (PCA)", "none"
-  double spacing = 0.0;                ///< the model's mean point spacing
+  deform::TypicalSpacing spacing;      ///< the model's length scale, and which statistic gave it
   std::optional<Calibration> calibration;  ///< when the scene gave landmarks
   std::vector<std::string> notes;      ///< defaults derived, for the user to see once
 };
