@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   commands.push_back(add_run_command(app));
   commands.push_back(add_glove_sim_command(app));
   commands.push_back(add_replay_command(app));
+  commands.push_back(add_check_command(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

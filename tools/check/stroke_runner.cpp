@@ -1,0 +1,141 @@
+#include "stroke_runner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "sculpt/deform/model_scale.hpp"
+
+namespace sculpt::tools::check {
+
+using deform::Vec3;
+
+double model_spacing(const deform::PointModel& model) {
+  return deform::mean_spacing(model, deform::PointIndex(model));
+}
+
+deform::DeformSettings StrokeRunner::settings_for(const deform::PointModel& model, const CaseSettings& s) {
+  // The defaults `sculpt deform` derives from the spacing, so the sweep checks what users run.
+  const double spacing = model_spacing(model);
+  deform::DeformSettings d;
+  d.kernel.kind = s.kernel;
+  d.kernel.material.poisson_ratio = s.poisson_ratio;
+  d.kernel.material.shear_modulus = s.shear_modulus;
+  if (s.kernel == deform::KernelKind::kRegularized) d.kernel.regularization = spacing;
+  d.contact.mode = deform::ContactMode::kPush;
+  d.contact.bc_radius = s.bc_factor * spacing;
+  d.contact.min_source_distance = 0.25 * spacing;
+  d.contact.guard_distance = 1.5 * spacing;
+  d.solver.form = s.form;
+  d.field.precision = s.precision;
+  return d;
+}
+
+namespace {
+Outside into_frame(const Outside& o, const Similarity& t) {
+  Outside out = o;
+  out.direction = t.rotate(o.direction);
+  return out;
+}
+}  // namespace
+
+StrokeRunner::StrokeRunner(const deform::PointModel& base, const Outside& outside, const CaseSettings& settings,
+                           const Similarity& frame)
+    : frame_(frame),
+      outside_(into_frame(outside, frame)),
+      model_(transformed(base, frame)),
+      deformer_(model_, settings_for(model_, settings)),
+      trace_(std::getenv("SCULPT_CHECK_TRACE") != nullptr) {
+  spacing_ = deformer_.settings().contact.bc_radius / settings.bc_factor / frame_.scale;
+  delta_d_ = deformer_.settings().contact.min_source_distance / frame_.scale;
+}
+
+PlaneSide StrokeRunner::surface(const Vec3& q) {
+  PlaneSide s = oracle_.side(model_, frame_.apply(q), outside_);
+  s.side /= frame_.scale;
+  s.normal = frame_.unrotate(s.normal);
+  s.centre = frame_.unapply(s.centre);
+  return s;
+}
+
+void StrokeRunner::place(std::span<const Vec3> positions) {
+  fingers_.clear();
+  for (const Vec3& p : positions) fingers_.push_back({p, std::nullopt});
+}
+
+bool StrokeRunner::model_finite() const {
+  auto finite = [](const std::vector<float>& a) {
+    return std::all_of(a.begin(), a.end(), [](float v) { return std::isfinite(v); });
+  };
+  return finite(model_.x) && finite(model_.y) && finite(model_.z) && finite(model_.nx) && finite(model_.ny) &&
+         finite(model_.nz);
+}
+
+void StrokeRunner::press(std::span<const Vec3> targets) {
+  const std::size_t n = std::min(targets.size(), fingers_.size());
+  motions_.clear();
+  side_before_.assign(n, 0.0);
+  previous_side_.assign(n, 0.0);
+  for (std::size_t f = 0; f < n; ++f) {
+    const Finger& g = fingers_[f];
+    deform::ProbeMotion m;
+    m.previous = frame_.apply(g.accepted);
+    m.current = frame_.apply(targets[f]);
+    if (g.earlier) m.earlier = frame_.apply(*g.earlier);
+    motions_.push_back(m);
+    // Judged on the model before the frame, as the deformer sees it.
+    side_before_[f] = surface(targets[f]).side;
+    previous_side_[f] = surface(g.accepted).side;
+  }
+
+  const deform::FrameReport& report = deformer_.deform(motions_);
+  Metrics& m = metrics_;
+  ++m.steps;
+  m.collisions += report.collisions;
+  m.guards += report.guards;
+  if (!model_finite()) ++m.non_finite;
+  if (report.collisions > 0 || report.rejected) m.min_jacobian = std::min(m.min_jacobian, report.min_jacobian);
+  m.max_miss = std::max(m.max_miss, report.max_miss / frame_.scale);
+  for (const deform::FrameReport& f : deformer_.frames()) {
+    ++m.frames_applied;
+    if (f.collisions == 0) continue;
+    const double condition = std::isfinite(f.solve.condition) ? f.solve.condition : f.solve.effective_condition;
+    m.max_condition = std::max(m.max_condition, condition);
+    m.max_relative_residual = std::max(m.max_relative_residual, f.solve.relative_residual);
+    double largest_force = 0.0;
+    for (const deform::ContactReport& c : f.contacts) {
+      if (c.state == deform::ProbeState::kCollided) largest_force = std::max(largest_force, norm(c.force));
+    }
+    if (largest_force > 0.0) {
+      m.max_displacement_ratio = std::max(m.max_displacement_ratio, f.max_displacement / largest_force);
+    }
+  }
+
+  for (std::size_t f = 0; f < n; ++f) {
+    const deform::ContactReport& c = report.contacts[f];
+    // A finger that pressed in from outside (by the oracle) past Δd must have collided; one
+    // already inside before would have been counted by probe_inside at the end of last frame.
+    const bool pressing = side_before_[f] < -delta_d_ && previous_side_[f] >= -delta_d_;
+    if (pressing && c.state != deform::ProbeState::kCollided) ++m.passed_through;
+    // A dropped probe has no probe_after: the finger is simply where it went.
+    const Vec3 after = c.state == deform::ProbeState::kDropped ? targets[f] : frame_.unapply(c.probe_after);
+    const double side = surface(after).side;
+    if (!std::isfinite(side) || side < -delta_d_) ++m.probe_inside;
+    if (std::isfinite(side)) m.deepest = std::max(m.deepest, -side);
+    if (trace_) {
+      std::fprintf(stderr, "step %zu finger %zu state %d before %.4g prev %.4g after %.4g code_side %.4g miss %.4g pushed %d F %.4g rej %d nf %zu\n",
+                   m.steps, f, static_cast<int>(c.state), side_before_[f], previous_side_[f], side, c.side_after / frame_.scale,
+                   c.miss, c.pushed_out, norm(c.force), report.rejected, deformer_.frames().size());
+      const PlaneSide o = surface(after);
+      const Vec3 cn = frame_.unrotate(model_.normal(o.nearest));
+      const Vec3 pa = point(o.nearest);
+      std::fprintf(stderr, "   nearest %u at (%.4f %.4f %.4f) code n (%.3f %.3f %.3f) oracle n (%.3f %.3f %.3f)\n", o.nearest,
+                   pa.x, pa.y, pa.z, cn.x, cn.y, cn.z, o.normal.x, o.normal.y, o.normal.z);
+    }
+    fingers_[f].earlier = fingers_[f].accepted;
+    fingers_[f].accepted = after;
+  }
+}
+
+}  // namespace sculpt::tools::check
