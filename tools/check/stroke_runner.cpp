@@ -12,7 +12,7 @@ namespace sculpt::tools::check {
 using deform::Vec3;
 
 double model_spacing(const deform::PointModel& model) {
-  return deform::mean_spacing(model, deform::PointIndex(model));
+  return deform::typical_spacing(model, deform::PointIndex(model)).value;
 }
 
 deform::DeformSettings StrokeRunner::settings_for(const deform::PointModel& model, const CaseSettings& s) {
@@ -47,6 +47,8 @@ StrokeRunner::StrokeRunner(const deform::PointModel& base, const Outside& outsid
       model_(transformed(base, frame)),
       deformer_(model_, settings_for(model_, settings)),
       trace_(std::getenv("SCULPT_CHECK_TRACE") != nullptr) {
+  reference_ = model_;
+  outside_.reference = &reference_;
   spacing_ = deformer_.settings().contact.bc_radius / settings.bc_factor / frame_.scale;
   delta_d_ = deformer_.settings().contact.min_source_distance / frame_.scale;
 }

@@ -88,6 +88,7 @@ class StrokeRunner {
   Similarity frame_;
   Outside outside_;  // in the model's frame
   deform::PointModel model_;
+  deform::PointModel reference_;  // model_ before the stroke, for the oracle's orientation
   deform::Deformer deformer_;
   // SCULPT_CHECK_TRACE set: every finger of every step on stderr, with the deformer's normal at
   // the nearest point next to the oracle's, to see where the two disagree.

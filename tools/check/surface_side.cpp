@@ -1,6 +1,7 @@
 #include "surface_side.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +14,32 @@ Vec3 centroid(const deform::PointModel& model) {
   Vec3 sum;
   for (std::size_t i = 0; i < model.size(); ++i) sum += model.position(i);
   return model.empty() ? Vec3{} : sum * (1.0 / static_cast<double>(model.size()));
+}
+
+// The rotation that best maps the neighbourhood's undeformed positions onto its current ones
+// (Kabsch: the SVD of their cross-covariance), applied to `v`.
+Vec3 SurfaceSideOracle::carried_by_rotation(const deform::PointModel& reference, const deform::PointModel& model,
+                                            std::size_t k, const Vec3& v) const {
+  auto at = [](const deform::PointModel& m, std::uint32_t i) {
+    const Vec3 p = m.position(i);
+    return Eigen::Vector3d(p.x, p.y, p.z);
+  };
+  Eigen::Vector3d rm = Eigen::Vector3d::Zero(), dm = Eigen::Vector3d::Zero();
+  for (std::size_t j = 0; j < k; ++j) {
+    rm += at(reference, scratch_[j].second);
+    dm += at(model, scratch_[j].second);
+  }
+  rm /= static_cast<double>(k);
+  dm /= static_cast<double>(k);
+  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+  for (std::size_t j = 0; j < k; ++j) {
+    h += (at(reference, scratch_[j].second) - rm) * (at(model, scratch_[j].second) - dm).transpose();
+  }
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  d(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  const Eigen::Vector3d r = svd.matrixV() * d * svd.matrixU().transpose() * Eigen::Vector3d(v.x, v.y, v.z);
+  return {r.x(), r.y(), r.z()};
 }
 
 PlaneSide SurfaceSideOracle::side(const deform::PointModel& model, const Vec3& q, const Outside& outside) {
@@ -40,12 +67,22 @@ PlaneSide SurfaceSideOracle::side(const deform::PointModel& model, const Vec3& q
   }
 
   // The outside direction at this place: away from the centroid, or the sheet's fixed side.
+  const deform::PointModel& shape = outside.reference ? *outside.reference : model;
   Eigen::Vector3d out;
   if (outside.kind == Outside::Kind::kAwayFromCentroid) {
-    const Vec3 c = centroid(model);
-    out = mean - Eigen::Vector3d(c.x, c.y, c.z);
+    const Vec3 c = centroid(shape);
+    Eigen::Vector3d shape_mean = Eigen::Vector3d::Zero();
+    for (std::size_t j = 0; j < k; ++j) {
+      const Vec3 p = shape.position(scratch_[j].second);
+      shape_mean += Eigen::Vector3d(p.x, p.y, p.z);
+    }
+    out = shape_mean / static_cast<double>(k) - Eigen::Vector3d(c.x, c.y, c.z);
   } else {
     out = Eigen::Vector3d(outside.direction.x, outside.direction.y, outside.direction.z);
+  }
+  if (outside.reference && k >= 3) {
+    const Vec3 carried = carried_by_rotation(*outside.reference, model, k, {out.x(), out.y(), out.z()});
+    out = Eigen::Vector3d(carried.x, carried.y, carried.z);
   }
   if (out.norm() > 0.0) out.normalize();
 

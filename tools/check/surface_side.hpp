@@ -20,6 +20,10 @@ struct Outside {
   };
   Kind kind = Kind::kAwayFromCentroid;
   deform::Vec3 direction{0.0, 0.0, 1.0};  ///< for kDirection (need not be unit)
+  /// The undeformed model (same points, same order), or null. When set, the outside is read
+  /// there (where the rule above holds) and carried to the deformed neighbourhood by its best-fit
+  /// rotation: a pit pushed past the centroid still faces up, as its material does.
+  const deform::PointModel* reference = nullptr;
 };
 
 /// The local surface near a query point.
@@ -46,6 +50,8 @@ class SurfaceSideOracle {
   std::size_t k() const { return k_; }
 
  private:
+  deform::Vec3 carried_by_rotation(const deform::PointModel& reference, const deform::PointModel& model,
+                                   std::size_t k, const deform::Vec3& v) const;
   std::size_t k_;
   std::vector<std::pair<double, std::uint32_t>> scratch_;
 };
