@@ -30,6 +30,9 @@ std::size_t typical_patch_points(const PointModel& model, const PointIndex& inde
 
 }  // namespace
 
+// A source's nearest model point is at least this fraction of its distance to A.
+constexpr double kSourceAloneRatio = 0.5;
+
 void GuardSettings::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("deform guards: " + what); };
   if (!(clearance_ratio >= 0.0 && clearance_ratio <= 1e3)) fail("clearance ratio must lie in [0, 1000]");
@@ -205,9 +208,15 @@ Vec3 Deformer::outward(std::uint32_t point) const noexcept {
 Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, const Vec3& force, std::uint32_t nearest,
                             double clearance, bool& moved) const noexcept {
   moved = false;
-  // Float positions: a source exactly at the clearance may measure a hair closer.
-  const double enough = clearance * (1.0 - 1e-6);
-  if (index_.nearest(model_, candidate, drift_).distance >= enough) return candidate;
+  // Float positions: a source exactly at the clearance may measure a hair closer. Beyond the
+  // clearance, no model point may sit much closer to the source than A does: Kelvin's field
+  // falls as 1/R, so a point at half A's distance moves twice as far as A is asked to (a glove
+  // sample that jumped across the model makes such a source).
+  auto clear = [&](const Vec3& p) {
+    const double needed = std::max(clearance, kSourceAloneRatio * norm(p - contact));
+    return index_.nearest(model_, p, drift_).distance >= needed * (1.0 - 1e-6);
+  };
+  if (clear(candidate)) return candidate;
   // MATH.md §4 and §6: a source next to any model point makes that point's displacement
   // unbounded, and one off the force's axis shears the patch and folds it early. First the
   // way the probe came (-F, when it leaves on the allowed side): on the force axis, which keeps
@@ -223,7 +232,7 @@ Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, const Ve
     double distance = clearance;
     for (int k = 0; k < 4; ++k, distance *= 2.0) {
       placed = contact + dir * distance;
-      if (index_.nearest(model_, placed, drift_).distance >= enough) return placed;
+      if (clear(placed)) return placed;
     }
   }
   return placed;

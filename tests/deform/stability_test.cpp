@@ -335,5 +335,38 @@ TEST(Stability, OutOfRangeOrNonFiniteProbesAreDroppedAndCounted) {
   EXPECT_TRUE(same_bytes(sphere, before));
 }
 
+// Accuracy kept: where no guard acts, a frame moves every point by exactly the Kelvin field of
+// its effective force (MATH.md §1, written out here independently of kernel.cpp), to float
+// precision, with the carried normal still a unit vector.
+TEST(Stability, AFrameNoGuardTouchesIsTheKelvinFieldOfItsForce) {
+  PointModel sphere = make_sphere();
+  const PointModel before = sphere;
+  DeformSettings s = settings_for(kSphereSpacing);
+  Deformer d(sphere, s);
+  const Vec3 a = before.position(0), n = before.normal(0);
+  const ProbeMotion m{a + n * 0.2, a - n * 0.02, std::nullopt};
+  const FrameReport& r = d.deform({&m, 1});
+  ASSERT_EQ(r.collisions, 1u);
+  ASSERT_EQ(r.guards.total(), 0u) << "the case must be one no guard touches";
+  ASSERT_EQ(d.frames().size(), 1u);
+  const ContactReport& c = r.contacts[0];
+  EXPECT_EQ(c.source_rule, SourceRule::kPrevious);
+  const double g = s.kernel.material.shear_modulus, nu = s.kernel.material.poisson_ratio;
+  const double pi = std::acos(-1.0);
+  double worst = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const Vec3 rv = before.position(i) - c.source;
+    const double len = norm(rv);
+    const Vec3 rh = rv * (1.0 / len);
+    const double scale = 1.0 / (16.0 * pi * g * (1.0 - nu) * len);
+    const Vec3 u = (c.effective_force * (3.0 - 4.0 * nu) + rh * dot(rh, c.effective_force)) * scale;
+    worst = std::max(worst, norm(sphere.position(i) - before.position(i) - u));
+    largest = std::max(largest, norm(u));
+    EXPECT_NEAR(norm(sphere.normal(i)), 1.0, 1e-5);
+  }
+  EXPECT_LT(worst, 1e-5 * largest + 1e-7);
+  EXPECT_NEAR(largest, r.max_displacement, 1e-5 * largest);
+}
+
 }  // namespace
 }  // namespace sculpt::deform

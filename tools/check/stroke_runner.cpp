@@ -111,6 +111,12 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
     }
     if (largest_force > 0.0) {
       m.max_displacement_ratio = std::max(m.max_displacement_ratio, f.max_displacement / largest_force);
+      if (trace_ && f.max_displacement > 3.0 * largest_force) {
+        const deform::ContactReport& c = f.contacts[0];
+        std::fprintf(stderr, "RATIO step %zu: |F| %.4g moved %.4g, bc points %zu, source %.4g from A, rule %d, residual %.3g, guards %u\n",
+                     m.steps, largest_force, f.max_displacement, c.boundary_points, norm(c.source - c.contact),
+                     static_cast<int>(c.source_rule), f.solve.relative_residual, f.guards.total());
+      }
     }
   }
 
