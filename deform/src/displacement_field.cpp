@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace sculpt::deform {
 namespace {
@@ -109,10 +111,10 @@ void add_gradients(const SourceTable<T>& t, const Block<T>& b, GradientBlock<T>&
   }
 }
 
-// det(I + grad u) and, when `carry`, the normal carried by Nanson's formula (MATH.md §6):
-// n' = normalize(cof(Fg) n), cof(Fg) = det(Fg) Fg^-T. The cofactor is used as it is: where the
-// frame folded (det <= 0) no normal formula is meaningful, and the fold guard rejects the frame
-// before anyone reads that normal. Returns det.
+// det(I + grad u) at block point k and, when `carry`, the block's normal k carried by Nanson's
+// formula (MATH.md §6): n' = normalize(cof(Fg) n), cof(Fg) = det(Fg) Fg^-T. The cofactor is
+// used as it is: where the frame folded (det <= 0) no normal formula is meaningful, and the
+// fold guard rejects the frame before anyone reads that normal.
 template <typename T>
 inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, bool carry, float& nx, float& ny,
                              float& nz) {
@@ -128,58 +130,95 @@ inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, bool car
   const T mx = c00 * n0 + c01 * n1 + c02 * n2;
   const T my = c10 * n0 + c11 * n1 + c12 * n2;
   const T mz = c20 * n0 + c21 * n1 + c22 * n2;
-  const T len = std::sqrt(mx * mx + my * my + mz * mz);
-  if (!(len > T(0))) return det;  // degenerate gradient: keep the old normal rather than write NaN
-  const T scale = T(1) / len;
-  nx = static_cast<float>(mx * scale);
-  ny = static_cast<float>(my * scale);
-  nz = static_cast<float>(mz * scale);
+  const T len2 = mx * mx + my * my + mz * mz;
+  // A degenerate gradient keeps the old normal rather than writing NaN; selects, not a branch,
+  // so the loop over a block vectorises.
+  const bool usable = len2 > T(0);
+  const T scale = T(1) / std::sqrt(usable ? len2 : T(1));
+  nx = usable ? static_cast<float>(mx * scale) : nx;
+  ny = usable ? static_cast<float>(my * scale) : ny;
+  nz = usable ? static_cast<float>(mz * scale) : nz;
   return det;
+}
+
+// Non-zero when any of the n floats is infinite or NaN (all exponent bits set). Integer OR
+// reductions may be reordered, so this vectorises where a float sum would not.
+inline std::uint32_t non_finite_bits(const float* v, std::size_t n) {
+  std::uint32_t bad = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    std::uint32_t bits;
+    std::memcpy(&bits, v + k, sizeof bits);
+    bad |= static_cast<std::uint32_t>((bits & 0x7f800000u) == 0x7f800000u);
+  }
+  return bad;
+}
+
+inline std::uint32_t non_finite_bits(const double* v, std::size_t n) {
+  std::uint32_t bad = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + k, sizeof bits);
+    bad |= static_cast<std::uint32_t>((bits & 0x7ff0000000000000u) == 0x7ff0000000000000u);
+  }
+  return bad;
 }
 
 }  // namespace
 
-// Appends old values to a journal reserved at set-up: no allocation, by construction of the
-// reservation (the caller reserves for every point a frame may move).
+// Records a block of old values into a journal reserved at set-up: no allocation, by
+// construction of the reservation (the caller reserves for every point a frame may move).
 struct JournalWriter {
   UndoJournal& j;
-  void record(const PointModel& m, std::size_t i) const noexcept {
-    j.index_.push_back(static_cast<std::uint32_t>(i));
-    j.old_.push_back(m.x[i]);
-    j.old_.push_back(m.y[i]);
-    j.old_.push_back(m.z[i]);
-    if (j.normals_) {
-      j.old_.push_back(m.nx[i]);
-      j.old_.push_back(m.ny[i]);
-      j.old_.push_back(m.nz[i]);
+  template <typename IndexOf>
+  void record(IndexOf index_of, std::size_t begin, std::size_t n, const float* x, const float* y, const float* z,
+              const float* nx, const float* ny, const float* nz) const noexcept {
+    const std::size_t at = j.count_;
+    if (at + n > j.index_.size()) return;  // cannot happen with the reservation the contract asks for
+    for (std::size_t k = 0; k < n; ++k) j.index_[at + k] = static_cast<std::uint32_t>(index_of(begin + k));
+    std::memcpy(j.x_.data() + at, x, n * sizeof(float));
+    std::memcpy(j.y_.data() + at, y, n * sizeof(float));
+    std::memcpy(j.z_.data() + at, z, n * sizeof(float));
+    if (j.normals_ && nx) {
+      std::memcpy(j.nx_.data() + at, nx, n * sizeof(float));
+      std::memcpy(j.ny_.data() + at, ny, n * sizeof(float));
+      std::memcpy(j.nz_.data() + at, nz, n * sizeof(float));
     }
+    j.count_ = at + n;
   }
 };
 
 void UndoJournal::reserve(std::size_t points, bool normals) {
   normals_ = normals;
-  index_.reserve(points);
-  old_.reserve(points * (normals ? 6 : 3));
+  count_ = 0;
+  index_.assign(points, 0);
+  x_.assign(points, 0.0f);
+  y_.assign(points, 0.0f);
+  z_.assign(points, 0.0f);
+  nx_.assign(normals ? points : 0, 0.0f);
+  ny_.assign(normals ? points : 0, 0.0f);
+  nz_.assign(normals ? points : 0, 0.0f);
 }
 
 void UndoJournal::restore(PointModel& model) const noexcept {
-  const std::size_t stride = normals_ ? 6 : 3;
-  for (std::size_t k = index_.size(); k-- > 0;) {
+  const bool normals = normals_ && model.has_normals();
+  for (std::size_t k = 0; k < count_; ++k) {
     const std::size_t i = index_[k];
-    const float* o = old_.data() + k * stride;
-    model.x[i] = o[0];
-    model.y[i] = o[1];
-    model.z[i] = o[2];
-    if (normals_) {
-      model.nx[i] = o[3];
-      model.ny[i] = o[4];
-      model.nz[i] = o[5];
+    model.x[i] = x_[k];
+    model.y[i] = y_[k];
+    model.z[i] = z_[k];
+    if (normals) {
+      model.nx[i] = nx_[k];
+      model.ny[i] = ny_[k];
+      model.nz[i] = nz_[k];
     }
   }
 }
 
 namespace {
 
+// Each block: gather positions (and normals), record them in the journal, compute the
+// displacements (and gradient, Jacobian, carried normals) into block arrays, check the block
+// for non-finite values with a bit test, then scatter it back.
 template <typename T, typename IndexOf>
 FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
                         bool carry_normals, bool jacobian, UndoJournal* journal) {
@@ -188,49 +227,76 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
   float* __restrict z = model.z.data();
   Block<T> b;
   GradientBlock<T> gb;
+  alignas(64) float px[kBlock], py[kBlock], pz[kBlock];  // new positions
+  alignas(64) float ox[kBlock], oy[kBlock], oz[kBlock];  // old positions, for the journal
+  alignas(64) float nx[kBlock], ny[kBlock], nz[kBlock];  // normals, old then carried
+  alignas(64) T dets[kBlock];
   T max_squared = T(0);
   T min_det = T(1);
-  // Stays 0 while every value is finite; inf - inf and NaN - NaN are NaN, which then sticks.
-  float poison = 0.0f;
+  std::uint32_t bad = 0;
   const bool gradients = carry_normals || jacobian;
   if (journal) journal->clear();
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
-    b.size = std::min(kBlock, count - begin);
-    for (std::size_t k = 0; k < b.size; ++k) {
+    const std::size_t n = std::min(kBlock, count - begin);
+    b.size = n;
+    for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = index_of(begin + k);
-      b.qx[k] = x[i];
-      b.qy[k] = y[i];
-      b.qz[k] = z[i];
+      ox[k] = x[i];
+      oy[k] = y[i];
+      oz[k] = z[i];
+      b.qx[k] = ox[k];
+      b.qy[k] = oy[k];
+      b.qz[k] = oz[k];
+    }
+    if (carry_normals) {
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = index_of(begin + k);
+        nx[k] = model.nx[i];
+        ny[k] = model.ny[i];
+        nz[k] = model.nz[i];
+      }
     }
     if (journal) {
-      const JournalWriter writer{*journal};
-      for (std::size_t k = 0; k < b.size; ++k) writer.record(model, index_of(begin + k));
+      JournalWriter{*journal}.record(index_of, begin, n, ox, oy, oz, carry_normals ? nx : nullptr, ny, nz);
     }
     add_displacements(t, b);
     if (gradients) {
       add_gradients(t, b, gb);
-      for (std::size_t k = 0; k < b.size; ++k) {
-        const std::size_t i = index_of(begin + k);
-        float dummy = 0.0f;
-        const T det = carry_normals ? jacobian_and_normal(gb, k, true, model.nx[i], model.ny[i], model.nz[i])
-                                    : jacobian_and_normal(gb, k, false, dummy, dummy, dummy);
-        min_det = det < min_det ? det : min_det;
-        poison += static_cast<float>(det - det);
-        if (carry_normals) poison += (model.nx[i] - model.nx[i]) + (model.ny[i] - model.ny[i]) + (model.nz[i] - model.nz[i]);
+      if (carry_normals) {
+        for (std::size_t k = 0; k < n; ++k) dets[k] = jacobian_and_normal(gb, k, true, nx[k], ny[k], nz[k]);
+      } else {
+        float unused = 0.0f;
+        for (std::size_t k = 0; k < n; ++k) dets[k] = jacobian_and_normal(gb, k, false, unused, unused, unused);
       }
+      for (std::size_t k = 0; k < n; ++k) min_det = std::min(min_det, dets[k]);
+      bad |= non_finite_bits(dets, n);
+      if (carry_normals) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
     }
-    for (std::size_t k = 0; k < b.size; ++k) {
-      const std::size_t i = index_of(begin + k);
-      x[i] = static_cast<float>(b.qx[k] + b.ux[k]);
-      y[i] = static_cast<float>(b.qy[k] + b.uy[k]);
-      z[i] = static_cast<float>(b.qz[k] + b.uz[k]);
-      poison += (x[i] - x[i]) + (y[i] - y[i]) + (z[i] - z[i]);
+    for (std::size_t k = 0; k < n; ++k) {
+      px[k] = static_cast<float>(b.qx[k] + b.ux[k]);
+      py[k] = static_cast<float>(b.qy[k] + b.uy[k]);
+      pz[k] = static_cast<float>(b.qz[k] + b.uz[k]);
       const T u2 = b.ux[k] * b.ux[k] + b.uy[k] * b.uy[k] + b.uz[k] * b.uz[k];
       max_squared = u2 > max_squared ? u2 : max_squared;
     }
+    bad |= non_finite_bits(px, n) | non_finite_bits(py, n) | non_finite_bits(pz, n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = index_of(begin + k);
+      x[i] = px[k];
+      y[i] = py[k];
+      z[i] = pz[k];
+    }
+    if (carry_normals) {
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = index_of(begin + k);
+        model.nx[i] = nx[k];
+        model.ny[i] = ny[k];
+        model.nz[i] = nz[k];
+      }
+    }
   }
   FieldResult result;
-  result.finite = poison == 0.0f && std::isfinite(static_cast<double>(max_squared));
+  result.finite = bad == 0 && std::isfinite(static_cast<double>(max_squared));
   result.max_displacement = std::sqrt(static_cast<double>(max_squared));
   result.min_jacobian = static_cast<double>(min_det);
   return result;

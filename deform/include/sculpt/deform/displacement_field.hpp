@@ -40,16 +40,19 @@ class UndoJournal {
  public:
   /// Room for `points` moved points (with their normals when `normals`). Allocates.
   void reserve(std::size_t points, bool normals);
-  std::size_t capacity() const { return index_.capacity(); }
-  std::size_t size() const { return index_.size(); }
-  void clear() noexcept { index_.clear(); old_.clear(); }
-  /// Writes the recorded values back, newest first. No allocation.
+  std::size_t capacity() const { return index_.size(); }
+  std::size_t size() const { return count_; }
+  void clear() noexcept { count_ = 0; }
+  /// Writes the recorded values back. No allocation.
   void restore(PointModel& model) const noexcept;
 
  private:
   friend struct JournalWriter;
+  // Sized once by reserve(); count_ of them are in use. One array per attribute, so a block of
+  // points is recorded with straight copies.
   std::vector<std::uint32_t> index_;
-  std::vector<float> old_;  // x, y, z[, nx, ny, nz] per recorded point
+  std::vector<float> x_, y_, z_, nx_, ny_, nz_;
+  std::size_t count_ = 0;
   bool normals_ = false;
 };
 
