@@ -71,6 +71,7 @@ Station::Station(deform::PointModel& model, StationSettings settings, std::uniqu
       rebuild_drift_(0.5 * deformer_.settings().contact.bc_radius) {
   if (!glove_) throw std::invalid_argument("station: no glove source");
   inbox_.resize(256);
+  for (const FingerId f : settings_.fingers) acting_hand_[f.hand] = true;
   fingers_.resize(settings_.fingers.size());
   tracks_.reserve(settings_.fingers.size());
   for (std::size_t i = 0; i < settings_.fingers.size(); ++i) {
@@ -105,18 +106,23 @@ void Station::take_samples(std::int64_t now_ns) noexcept {
       if (recorder_) recorder_->glove_sample(s);
       has_sample_[s.hand] = true;
       fresh_[s.hand] = true;
-      last_sample_ns_ = std::max(last_sample_ns_, s.receive_time_ns);
+      last_sample_ns_[s.hand] = std::max(last_sample_ns_[s.hand], s.receive_time_ns);
     }
     report_.samples += n;
     if (n < inbox_.size()) break;
   }
   totals_.samples += report_.samples;
-  const bool any = has_sample_[0] || has_sample_[1];
-  report_.glove_age_ms = any ? static_cast<double>(now_ns - last_sample_ns_) * 1e-6 : 0.0;
+  // The age that matters is the oldest among the acting hands that have reported.
+  double age_ns = 0.0;
+  for (std::uint8_t h = 0; h < hal::kHands; ++h) {
+    if (acting_hand_[h] && has_sample_[h]) age_ns = std::max(age_ns, static_cast<double>(now_ns - last_sample_ns_[h]));
+  }
+  report_.glove_age_ms = age_ns * 1e-6;
 }
 
-void Station::release_forces() noexcept {
+void Station::release_forces(std::uint8_t hand) noexcept {
   for (std::size_t i = 0; i < fingers_.size(); ++i) {
+    if (settings_.fingers[i].hand != hand) continue;
     fingers_[i].in_contact = false;
     fingers_[i].haptic_force = deform::Vec3{};
     // A finger that comes back starts a new stroke: no force may be formed from a position
@@ -132,7 +138,7 @@ void Station::update_fingers(std::int64_t) noexcept {
     const FingerId id = settings_.fingers[i];
     Track& track = tracks_[i];
     track.accepted_this_tick = false;
-    if (!fresh_[id.hand]) continue;
+    if (!fresh_[id.hand] || stale_[id.hand]) continue;
     const hal::GloveSample& sample = newest_[id.hand];
     const std::array<hal::Point3f, hal::kFingers> tips = settings_.hand_model.tips(sample);
     FingerState& f = fingers_[i];
@@ -285,18 +291,25 @@ const TickReport& Station::tick(std::int64_t now_ns, std::int64_t budget_ns) noe
   report_.budget_ns = budget_ns;
   if (rebuilder_.install(deformer_)) ++totals_.index_rebuilds;
   take_samples(now_ns);
-  const bool any = has_sample_[0] || has_sample_[1];
+  // Each hand has its own age: a silent hand's fingers are released within one tick and cannot
+  // deform until it reports again, while the other hand goes on sculpting.
   const auto timeout_ns = static_cast<std::int64_t>(std::llround(settings_.glove_timeout_s * 1e9));
-  const bool stale = !any || now_ns - last_sample_ns_ > timeout_ns;
-  report_.glove = !any ? GloveState::kWaiting : (stale ? GloveState::kStale : GloveState::kLive);
-  if (stale) {
-    ++totals_.stale_ticks;
-    if (!stale_ && any) ++totals_.stale_events;
-    if (!stale_) release_forces();
-    stale_ = true;
-    return report_;
+  bool any = false, any_live = false, any_stale = false;
+  for (std::uint8_t h = 0; h < hal::kHands; ++h) {
+    if (!acting_hand_[h]) continue;
+    any |= has_sample_[h];
+    const bool stale = !has_sample_[h] || now_ns - last_sample_ns_[h] > timeout_ns;
+    if (stale && !stale_[h] && has_sample_[h]) {
+      ++totals_.stale_events;
+      release_forces(h);
+    }
+    stale_[h] = stale;
+    any_live |= !stale;
+    any_stale |= stale && has_sample_[h];
   }
-  stale_ = false;
+  report_.glove = !any ? GloveState::kWaiting : (any_stale || !any_live ? GloveState::kStale : GloveState::kLive);
+  if (any_stale || !any_live) ++totals_.stale_ticks;
+  if (!any_live) return report_;
   update_fingers(now_ns);
   report_.out_of_range = totals_.out_of_range;
   const bool moved = std::any_of(tracks_.begin(), tracks_.end(), [](const Track& t) { return t.accepted_this_tick; });

@@ -31,8 +31,9 @@ class FakeGlove final : public hal::GloveSource {
   hal::SourceState state() const noexcept override { return hal::SourceState::kConnected; }
   const char* name() const noexcept override { return "fake"; }
 
-  void feed(const deform::Vec3& index_tip, std::int64_t now_ns, std::uint64_t device_us) {
+  void feed(const deform::Vec3& index_tip, std::int64_t now_ns, std::uint64_t device_us, std::uint8_t hand = 0) {
     hal::GloveSample s;
+    s.hand = hand;
     s.sequence = sequence_++;
     s.device_time_us = device_us;
     s.receive_time_ns = now_ns;
@@ -170,6 +171,67 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
     EXPECT_DOUBLE_EQ(station.deformer().index().nearest(sphere, q, station.deformer().drift()).distance, best);
   }
 
+}
+
+// Two hands, the right one goes silent: its finger is released within one tick past the
+// timeout and cannot deform until it reports again, while the left one keeps sculpting.
+TEST(Station, ASilentHandIsReleasedWhileTheOtherKeepsSculpting) {
+  deform::PointModel sphere = deform::make_sphere();
+  StationSettings s = press_settings();
+  s.fingers = {{0, 1}, {1, 1}};
+  auto glove = std::make_unique<FakeGlove>();
+  FakeGlove* g = glove.get();
+  std::vector<hal::HapticCommand> haptics;
+  haptics.reserve(10000);
+  Station station(sphere, s, std::move(glove), std::make_unique<RecordingSink>(&haptics));
+  station.start();
+  std::int64_t now = 0;
+  // Left finger presses down onto the north pole, right finger onto the south pole (from below).
+  auto feed_both = [&](double depth, bool right) {
+    g->feed({0.0, 0.0, 1.2 - depth}, now, static_cast<std::uint64_t>(now / 1000), 0);
+    if (right) g->feed({0.0, 0.0, -1.2 + depth}, now, static_cast<std::uint64_t>(now / 1000), 1);
+  };
+  for (int i = 0; i < 12; ++i) {
+    now += 5 * kMs;
+    feed_both(0.03 * i, true);
+    station.tick(now, kMs);
+  }
+  ASSERT_TRUE(station.fingers()[0].in_contact);
+  ASSERT_TRUE(station.fingers()[1].in_contact);
+  const std::int64_t right_last = now;
+  // Only the left hand reports from here on.
+  const std::uint64_t stale_before = station.totals().stale_events;
+  bool released_at_timeout = false;
+  for (int t = 1; t <= 80; ++t) {
+    now += kMs;
+    if (t % 5 == 0) feed_both(0.36 + 0.002 * t, false);
+    const TickReport& r = station.tick(now, kMs);
+    const bool past = now - right_last > 50 * kMs;
+    if (!past) {
+      EXPECT_TRUE(station.fingers()[1].in_contact || r.glove == GloveState::kLive) << "tick " << t;
+      continue;
+    }
+    // Within one tick past the timeout: the right finger is out of contact with zero force.
+    EXPECT_FALSE(station.fingers()[1].in_contact) << "tick " << t;
+    EXPECT_EQ(station.fingers()[1].haptic_force.z, 0.0) << "tick " << t;
+    released_at_timeout = true;
+  }
+  EXPECT_TRUE(released_at_timeout);
+  EXPECT_EQ(station.totals().stale_events, stale_before + 1);
+  // A zero command went to the right hand.
+  bool zero_right = false;
+  for (const hal::HapticCommand& c : haptics) zero_right |= c.hand == 1 && c.active_mask == 0;
+  EXPECT_TRUE(zero_right);
+  // The left finger kept pressing and deforming after the right one went silent.
+  EXPECT_TRUE(station.fingers()[0].in_contact);
+  const deform::PointModel held = sphere;
+  const std::uint64_t right_collisions = station.fingers()[1].collisions;
+  now += 5 * kMs;
+  feed_both(0.6, false);
+  const TickReport& r = station.tick(now, kMs);
+  EXPECT_NE(sphere.z, held.z) << "the live hand still sculpts";
+  EXPECT_EQ(r.collisions, 1u) << "only the live hand's finger presses";
+  EXPECT_EQ(station.fingers()[1].collisions, right_collisions) << "the silent hand cannot deform";
 }
 
 TEST(Station, RejectsBadFingerLists) {

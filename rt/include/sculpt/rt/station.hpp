@@ -81,7 +81,7 @@ struct StationTotals {
   std::uint64_t frames = 0;
   std::uint64_t collisions = 0;
   std::uint64_t stale_ticks = 0;
-  std::uint64_t stale_events = 0;  ///< times the glove went stale
+  std::uint64_t stale_events = 0;  ///< times a hand went stale (each hand counts on its own)
   std::uint64_t samples = 0;
   double max_region_radius = 0.0;
   std::size_t max_region_points = 0;
@@ -128,7 +128,8 @@ class Station {
   };
 
   void take_samples(std::int64_t now_ns) noexcept;
-  void release_forces() noexcept;
+  /// Releases every force of the fingers of `hand` and forgets their history (one zero command).
+  void release_forces(std::uint8_t hand) noexcept;
   void update_fingers(std::int64_t now_ns) noexcept;
   void run_frame(std::int64_t budget_ns) noexcept;
   void send_haptics() noexcept;
@@ -143,8 +144,9 @@ class Station {
   std::array<hal::GloveSample, hal::kHands> newest_{};
   std::array<bool, hal::kHands> has_sample_{};
   std::array<bool, hal::kHands> fresh_{};
-  std::int64_t last_sample_ns_ = 0;
-  bool stale_ = false;
+  std::array<std::int64_t, hal::kHands> last_sample_ns_{};  // newest sample's receive time, per hand
+  std::array<bool, hal::kHands> stale_{};                   // the hand is silent past the timeout
+  std::array<bool, hal::kHands> acting_hand_{};             // a finger of this hand acts
   std::vector<FingerState> fingers_;
   std::vector<Track> tracks_;
   std::vector<deform::ProbeMotion> probes_;
