@@ -539,8 +539,18 @@ void read_registration(const Section& root, Scene& scene) {
 }
 
 void read_haptic(const Section& root, Scene& scene) {
-  const Section s = root.table("haptic", {"sink", "queue_capacity", "lcm", "serial", "can"});
+  const Section s = root.table("haptic", {"sink", "queue_capacity", "lcm", "serial", "can", "gain", "max_force",
+                                          "max_force_rate"});
   auto& haptic = scene.haptic;
+  HapticLimits& limits = scene.haptic_limits;
+  limits.gain = s.non_negative("gain").value_or(limits.gain);
+  limits.max_force = s.positive("max_force").value_or(limits.max_force);
+  limits.max_force_rate = s.positive("max_force_rate").value_or(limits.max_force_rate);
+  try {
+    limits.validate();
+  } catch (const std::invalid_argument& e) {
+    s.fail("max_force", e.what());
+  }
   const std::string sink = s.string("sink").value_or("none");
   haptic.sink = s.choice<hal::SinkKind>("sink", {{"none", hal::SinkKind::kNone},
                                                  {"lcm", hal::SinkKind::kLcm},

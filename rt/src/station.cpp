@@ -66,11 +66,16 @@ Station::Station(deform::PointModel& model, StationSettings settings, std::uniqu
       deformer_(model, prepared(settings_, model, haptic != nullptr)),
       glove_(std::move(glove)),
       haptic_(std::move(haptic)),
+      shaper_(settings_.haptic, settings_.fingers.size(), settings_.rate_hz),
       rebuilder_(model.size()),
       // Queries widen by the drift: past half the contact radius their candidate sets grow.
       rebuild_drift_(0.5 * deformer_.settings().contact.bc_radius) {
   if (!glove_) throw std::invalid_argument("station: no glove source");
   inbox_.resize(256);
+  // Traction is in units of G (pascals) and the resultant sums it over model-unit areas; the
+  // registration maps glove metres to model units with scale s, so a model unit is 1/s metres.
+  const double metres_per_unit = 1.0 / settings_.registration.scale();
+  newtons_per_model_area_ = metres_per_unit * metres_per_unit;
   for (const FingerId f : settings_.fingers) acting_hand_[f.hand] = true;
   fingers_.resize(settings_.fingers.size());
   tracks_.reserve(settings_.fingers.size());
@@ -124,13 +129,14 @@ void Station::release_forces(std::uint8_t hand) noexcept {
   for (std::size_t i = 0; i < fingers_.size(); ++i) {
     if (settings_.fingers[i].hand != hand) continue;
     fingers_[i].in_contact = false;
+    fingers_[i].reaction = deform::Vec3{};
     fingers_[i].haptic_force = deform::Vec3{};
+    shaper_.release(i);
     // A finger that comes back starts a new stroke: no force may be formed from a position
     // recorded before the glove went silent.
     tracks_[i].dead_band.reset();
     tracks_[i].filter.reset();
   }
-  send_haptics();
 }
 
 void Station::update_fingers(std::int64_t) noexcept {
@@ -242,9 +248,14 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
     FingerState& f = fingers_[probe_finger_[k]];
     f.in_contact = c.state == deform::ProbeState::kCollided;
     if (f.in_contact) ++f.collisions;
-    // The surface pushes back on the finger with minus the traction it carries; into the
-    // glove frame by the registration's rotation (forces do not scale with positions).
-    f.haptic_force = c.has_traction ? to_glove_frame(-c.traction_resultant) : deform::Vec3{};
+    // The surface pushes back on the finger with minus the traction it carries, summed over
+    // the stroke (superposition), in newtons; into the glove frame by the registration's
+    // rotation (forces do not scale with positions). A finger that let go feels nothing.
+    if (!f.in_contact) {
+      f.reaction = deform::Vec3{};
+    } else if (c.has_traction) {
+      f.reaction += to_glove_frame(-c.traction_resultant) * newtons_per_model_area_;
+    }
     if (c.pushed_out) {
       DeadBand& band = tracks_[probe_finger_[k]].dead_band;
       band.reset();
@@ -262,25 +273,32 @@ deform::Vec3 Station::to_glove_frame(const deform::Vec3& v) const noexcept {
 
 void Station::send_haptics() noexcept {
   if (!haptic_) return;
+  const auto heartbeat_ns = static_cast<std::int64_t>(settings_.haptic.heartbeat_s * 1e9);
   for (std::uint8_t hand = 0; hand < hal::kHands; ++hand) {
+    if (!acting_hand_[hand]) continue;
     hal::HapticCommand command;
     command.hand = hand;
-    command.tick = haptic_tick_;
-    bool acts = false;
+    command.tick = static_cast<std::uint32_t>(report_.tick);
+    bool touching = false;
     for (std::size_t i = 0; i < fingers_.size(); ++i) {
       const FingerId id = settings_.fingers[i];
       if (id.hand != hand) continue;
-      acts = true;
-      if (fingers_[i].in_contact) command.active_mask |= static_cast<std::uint8_t>(1u << id.finger);
-      const deform::Vec3& v = fingers_[i].haptic_force;
+      FingerState& f = fingers_[i];
+      if (!f.in_contact) shaper_.release(i);
+      f.haptic_force = f.in_contact ? shaper_.step(i, f.reaction) : deform::Vec3{};
+      touching |= f.in_contact;
+      if (f.in_contact) command.active_mask |= static_cast<std::uint8_t>(1u << id.finger);
+      const deform::Vec3& v = f.haptic_force;
       command.force[id.finger] = {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
     }
-    if (acts) {
-      haptic_->send(command);
-      if (recorder_) recorder_->haptic(command);
-    }
+    const bool released = hand_touching_[hand] && !touching;
+    const bool heartbeat = now_ns_ - last_command_ns_[hand] >= heartbeat_ns;
+    hand_touching_[hand] = touching;
+    if (!touching && !released && !heartbeat) continue;
+    haptic_->send(command);
+    last_command_ns_[hand] = now_ns_;
+    if (recorder_) recorder_->haptic(command);
   }
-  ++haptic_tick_;
 }
 
 const TickReport& Station::tick(std::int64_t now_ns, std::int64_t budget_ns) noexcept {
@@ -309,14 +327,15 @@ const TickReport& Station::tick(std::int64_t now_ns, std::int64_t budget_ns) noe
   }
   report_.glove = !any ? GloveState::kWaiting : (any_stale || !any_live ? GloveState::kStale : GloveState::kLive);
   if (any_stale || !any_live) ++totals_.stale_ticks;
-  if (!any_live) return report_;
+  if (!any_live) {
+    send_haptics();
+    return report_;
+  }
   update_fingers(now_ns);
   report_.out_of_range = totals_.out_of_range;
   const bool moved = std::any_of(tracks_.begin(), tracks_.end(), [](const Track& t) { return t.accepted_this_tick; });
-  if (moved) {
-    run_frame(budget_ns);
-    send_haptics();
-  }
+  if (moved) run_frame(budget_ns);
+  send_haptics();
   return report_;
 }
 

@@ -85,6 +85,7 @@ StationSetup prepare_station(const Scene& scene) {
 
   StationSettings& st = s.settings;
   st.rate_hz = scene.loop.rate_hz;
+  st.haptic = scene.haptic_limits;
   st.glove_timeout_s = scene.glove.timeout_ms * 1e-3;
   for (std::uint8_t hand : scene.glove.hands) {
     for (std::uint8_t finger : scene.glove.fingers) st.fingers.push_back({hand, finger});

@@ -234,6 +234,75 @@ TEST(Station, ASilentHandIsReleasedWhileTheOtherKeepsSculpting) {
   EXPECT_EQ(station.fingers()[1].collisions, right_collisions) << "the silent hand cannot deform";
 }
 
+// A press held still: a command every loop tick while in contact, its `tick` the loop's tick,
+// never above max_force, rising no faster than the slew limit; one zero command on letting go,
+// then heartbeats at most 100 ms apart.
+TEST(Station, HapticsEveryTickBoundedSlewLimitedAndReleasedInOneTick) {
+  deform::PointModel sphere = deform::make_sphere();
+  StationSettings s = press_settings();
+  s.haptic.max_force = 4.0;
+  s.haptic.max_force_rate = 200.0;
+  auto glove = std::make_unique<FakeGlove>();
+  FakeGlove* g = glove.get();
+  std::vector<hal::HapticCommand> haptics;
+  haptics.reserve(20000);
+  Station station(sphere, s, std::move(glove), std::make_unique<RecordingSink>(&haptics));
+  station.start();
+  std::int64_t now = 0;
+  for (int i = 0; i <= 14; ++i) {  // down onto the pole and 0.08 in, a sample per 5 ticks
+    for (int t = 0; t < 5; ++t) {
+      now += kMs;
+      if (t == 0) g->feed({0.0, 0.0, 1.2 - 0.02 * i}, now, static_cast<std::uint64_t>(now / 1000));
+      station.tick(now, kMs);
+    }
+  }
+  ASSERT_TRUE(station.fingers()[0].in_contact);
+  // Hold for one second at 1 kHz, the glove still reporting the same position.
+  const std::size_t hold_begin = haptics.size();
+  for (int t = 0; t < 1000; ++t) {
+    now += kMs;
+    if (t % 5 == 0) g->feed({0.0, 0.0, 1.2 - 0.02 * 14}, now, static_cast<std::uint64_t>(now / 1000));
+    station.tick(now, kMs);
+  }
+  ASSERT_GE(haptics.size() - hold_begin, 1000u) << "a command every tick of the hold";
+  for (std::size_t k = hold_begin; k < haptics.size(); ++k) {
+    const hal::HapticCommand& c = haptics[k];
+    EXPECT_TRUE(c.active_mask & 0b10) << "command " << k;
+    const auto& f = c.force[1];
+    const double n = std::sqrt(double(f[0]) * f[0] + double(f[1]) * f[1] + double(f[2]) * f[2]);
+    EXPECT_LE(n, 4.0 + 1e-6);
+    if (k > hold_begin) {
+      EXPECT_EQ(c.tick, haptics[k - 1].tick + 1) << "loop ticks, one apart";
+    }
+  }
+  EXPECT_GT(haptics.back().force[1][2], 0.0f) << "held: the surface still pushes the finger out";
+  double rise = 0.0, previous = 0.0;
+  for (const hal::HapticCommand& c : haptics) {
+    const auto& f = c.force[1];
+    const double n = std::sqrt(double(f[0]) * f[0] + double(f[1]) * f[1] + double(f[2]) * f[2]);
+    rise = std::max(rise, n - previous);
+    previous = n;
+  }
+  EXPECT_LE(rise, 0.2 + 1e-6) << "200 N/s at 1 kHz";
+  // Lift off: the frame classes the finger free, and the same tick sends zero.
+  now += kMs;
+  g->feed({0.0, 0.0, 1.3}, now, static_cast<std::uint64_t>(now / 1000));
+  const std::size_t before_lift = haptics.size();
+  station.tick(now, kMs);
+  ASSERT_EQ(haptics.size(), before_lift + 1);
+  EXPECT_EQ(haptics.back().active_mask, 0);
+  EXPECT_EQ(haptics.back().force[1][2], 0.0f);
+  // Out of contact: heartbeats only, at most 100 ms apart.
+  const std::size_t idle_begin = haptics.size();
+  for (int t = 0; t < 500; ++t) {
+    now += kMs;
+    if (t % 5 == 0) g->feed({0.0, 0.0, 1.3}, now, static_cast<std::uint64_t>(now / 1000));
+    station.tick(now, kMs);
+  }
+  EXPECT_GE(haptics.size() - idle_begin, 4u);
+  EXPECT_LE(haptics.size() - idle_begin, 6u);
+}
+
 TEST(Station, RejectsBadFingerLists) {
   deform::PointModel sphere = deform::make_sphere();
   StationSettings s = press_settings();

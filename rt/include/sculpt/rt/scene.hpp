@@ -23,6 +23,7 @@
 #include "sculpt/deform/weight_solver.hpp"
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/glove_sample.hpp"
+#include "sculpt/rt/haptic_shaper.hpp"
 
 namespace sculpt::rt {
 
@@ -163,6 +164,7 @@ struct Scene {
   FilterScene filter;
   RegistrationScene registration;
   hal::HapticConfig haptic;
+  HapticLimits haptic_limits;  ///< [haptic] gain, max_force (N), max_force_rate (N/s)
   LoopScene loop;
   LcmScene lcm;
   OutputScene output;

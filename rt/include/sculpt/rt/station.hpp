@@ -13,6 +13,7 @@
 #include "sculpt/hal/hand_model.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
 #include "sculpt/rt/dead_band.hpp"
+#include "sculpt/rt/haptic_shaper.hpp"
 #include "sculpt/rt/index_rebuilder.hpp"
 #include "sculpt/rt/one_euro_filter.hpp"
 #include "sculpt/rt/similarity_transform.hpp"
@@ -44,6 +45,7 @@ struct StationSettings {
   hal::HandModel hand_model;
   RegionPolicy region;
   deform::DeformSettings deform;  ///< its region is set from `region`
+  HapticLimits haptic;            ///< what may reach the actuators
 };
 
 /// Per finger, what the last tick saw.
@@ -53,7 +55,10 @@ struct FingerState {
   deform::Vec3 filtered;         ///< glove frame
   deform::Vec3 registered;       ///< model frame
   bool in_contact = false;
-  deform::Vec3 haptic_force;     ///< glove frame, the reaction of the surface on the finger
+  /// Glove frame, newtons: the surface's reaction on the finger over the stroke so far (by
+  /// superposition, the sum of its frames' traction resultants), held while in contact.
+  deform::Vec3 reaction;
+  deform::Vec3 haptic_force;     ///< glove frame, newtons: what was last sent (gain, clamp, slew)
   std::uint64_t collisions = 0;  ///< total collision events of this finger
 };
 
@@ -132,6 +137,8 @@ class Station {
   void release_forces(std::uint8_t hand) noexcept;
   void update_fingers(std::int64_t now_ns) noexcept;
   void run_frame(std::int64_t budget_ns) noexcept;
+  /// Every tick: a command per hand while a finger of it is in contact, one zero command when
+  /// the last one lets go, and a heartbeat every limits.heartbeat_s otherwise.
   void send_haptics() noexcept;
   void size_region(std::int64_t budget_ns) noexcept;
   deform::Vec3 to_glove_frame(const deform::Vec3& v) const noexcept;
@@ -156,7 +163,10 @@ class Station {
   deform::FrameReport empty_frame_;
   const deform::FrameReport* last_frame_ = &empty_frame_;
   double cost_per_point_force_ns_ = 0.0;  // measured, exponentially averaged
-  std::uint32_t haptic_tick_ = 0;
+  HapticShaper shaper_;
+  std::array<bool, hal::kHands> hand_touching_{};         // a finger of the hand was in contact last tick
+  std::array<std::int64_t, hal::kHands> last_command_ns_{};
+  double newtons_per_model_area_ = 1.0;                   // (metres per model unit)^2
   IndexRebuilder rebuilder_;
   StationRecorder* recorder_ = nullptr;
   std::span<const double> region_schedule_;

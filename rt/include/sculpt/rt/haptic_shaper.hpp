@@ -1,0 +1,43 @@
+#pragma once
+// What may reach an actuator on a person's hand: the surface's reaction on each finger, scaled
+// by a gain, clamped to a safe force and limited in how fast it may rise. Falling force and
+// release are never delayed: they take effect in the tick they are asked for.
+
+#include <cstddef>
+#include <vector>
+
+#include "sculpt/deform/vec3.hpp"
+
+namespace sculpt::rt {
+
+/// Scene [haptic] limits, in newtons and seconds (the glove's unit of length is the metre).
+struct HapticLimits {
+  double gain = 1.0;             ///< applied to the reaction before the clamp
+  double max_force = 4.0;        ///< N, largest force magnitude ever sent (a glove actuator's range)
+  double max_force_rate = 200.0; ///< N/s, fastest rise of a finger's force magnitude
+  double heartbeat_s = 0.1;      ///< longest silence towards a hand with no finger in contact
+
+  /// Throws std::invalid_argument naming the bad limit.
+  void validate() const;
+};
+
+/// One per station; sized at set-up for its fingers. step() is noexcept and allocation-free.
+class HapticShaper {
+ public:
+  HapticShaper(const HapticLimits& limits, std::size_t fingers, double rate_hz);
+
+  /// The force to send for finger `i` this tick, given the reaction it should feel (newtons,
+  /// glove frame). Gain, then the clamp to max_force, then a rise of at most max_force_rate per
+  /// second in magnitude; a smaller target is taken at once.
+  deform::Vec3 step(std::size_t i, const deform::Vec3& reaction) noexcept;
+  /// Finger `i` lets go: its output is zero now, and a new contact rises from zero.
+  void release(std::size_t i) noexcept { output_[i] = deform::Vec3{}; }
+  const HapticLimits& limits() const { return limits_; }
+
+ private:
+  HapticLimits limits_;
+  double max_rise_per_tick_;
+  std::vector<deform::Vec3> output_;
+};
+
+}  // namespace sculpt::rt
