@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 namespace sculpt::deform {
 namespace {
@@ -141,24 +142,18 @@ inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, bool car
   return det;
 }
 
-// Non-zero when any of the n floats is infinite or NaN (all exponent bits set). Integer OR
+// Non-zero when any of the n values is infinite or NaN (all exponent bits set). Integer OR
 // reductions may be reordered, so this vectorises where a float sum would not.
-inline std::uint32_t non_finite_bits(const float* v, std::size_t n) {
+template <typename T>
+std::uint32_t non_finite_bits(const T* v, std::size_t n) {
+  static_assert(sizeof(T) == 4 || sizeof(T) == 8, "float or double");
+  using Bits = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
+  constexpr Bits exponent = static_cast<Bits>(sizeof(T) == 4 ? 0x7f800000ull : 0x7ff0000000000000ull);
   std::uint32_t bad = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    std::uint32_t bits;
+    Bits bits;
     std::memcpy(&bits, v + k, sizeof bits);
-    bad |= static_cast<std::uint32_t>((bits & 0x7f800000u) == 0x7f800000u);
-  }
-  return bad;
-}
-
-inline std::uint32_t non_finite_bits(const double* v, std::size_t n) {
-  std::uint32_t bad = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    std::uint64_t bits;
-    std::memcpy(&bits, v + k, sizeof bits);
-    bad |= static_cast<std::uint32_t>((bits & 0x7ff0000000000000u) == 0x7ff0000000000000u);
+    bad |= static_cast<std::uint32_t>((bits & exponent) == exponent);
   }
   return bad;
 }
