@@ -100,13 +100,19 @@ class RunCommand final : public Command {
                   scene.registration.landmarks.size(), setup.calibration->rms_residual, setup.calibration->max_residual);
     }
     rt::RealtimeOptions rt_options;
-    rt_options.fifo = scene.loop.realtime;
-    rt_options.lock_memory = scene.loop.lock_memory;
+    const bool require = scene.loop.realtime == rt::RealtimeMode::kRequire;
+    rt_options.fifo = scene.loop.realtime != rt::RealtimeMode::kOff;
+    rt_options.lock_memory = scene.loop.lock_memory || require;
     rt_options.cpu = scene.loop.cpu;
     rt_options.tight_timer_slack = true;  // no privilege needed; halves the wake-up lateness
-    for (const std::string& warning : rt::apply_realtime(rt_options)) {
-      std::fprintf(stderr, "warning  %s\n", warning.c_str());
+    const std::vector<std::string> refused = rt::apply_realtime(rt_options);
+    if (require) {
+      if (const std::string why = rt::required_refusal(refused); !why.empty()) {
+        throw std::runtime_error(scene_path_ + ": loop.realtime = \"require\", but " + why.substr(10) +
+                                 " (run with CAP_SYS_NICE and CAP_IPC_LOCK, or set realtime = \"try\")");
+      }
     }
+    for (const std::string& warning : refused) std::fprintf(stderr, "warning  %s\n", warning.c_str());
 
     struct sigaction action {};
     action.sa_handler = on_signal;

@@ -72,4 +72,11 @@ std::vector<std::string> apply_realtime(const RealtimeOptions& options) {
   return warnings;
 }
 
+std::string required_refusal(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) {
+    if (w.rfind("realtime: SCHED_FIFO", 0) == 0 || w.rfind("realtime: mlockall", 0) == 0) return w;
+  }
+  return {};
+}
+
 }  // namespace sculpt::rt

@@ -586,7 +586,12 @@ void read_loop(const Section& root, Scene& scene) {
   const Section s = root.table("loop", {"rate_hz", "realtime", "lock_memory", "cpu"});
   auto& loop = scene.loop;
   loop.rate_hz = s.number_in("rate_hz", 50.0, false, 2000.0, false).value_or(loop.rate_hz);
-  loop.realtime = s.boolean("realtime").value_or(loop.realtime);
+  if (const toml::node* n = s.node("realtime"); n != nullptr && n->is_boolean()) {
+    loop.realtime = *s.boolean("realtime") ? RealtimeMode::kTry : RealtimeMode::kOff;
+  } else if (n != nullptr) {
+    loop.realtime = s.choice<RealtimeMode>("realtime", {{"try", RealtimeMode::kTry}, {"require", RealtimeMode::kRequire}})
+                        .value_or(loop.realtime);
+  }
   loop.lock_memory = s.boolean("lock_memory").value_or(loop.lock_memory);
   if (const auto cpu = s.integer_in("cpu", -1, 4095)) loop.cpu = static_cast<int>(*cpu);
 }

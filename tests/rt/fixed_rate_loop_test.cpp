@@ -350,3 +350,20 @@ TEST(RealtimeSetup, ImpossibleOptionsAreErrors) {
 
 }  // namespace
 }  // namespace sculpt::rt
+
+namespace sculpt::rt {
+namespace {
+
+// "require" refuses exactly the refusals a real-time station cannot run with.
+TEST(RealtimeSetup, RequireRefusesOnlySchedFifoAndMemoryLockRefusals) {
+  EXPECT_EQ(required_refusal({}), "");
+  EXPECT_EQ(required_refusal({"realtime: timer slack 1 ns refused: EPERM"}), "");
+  EXPECT_EQ(required_refusal({"realtime: pinning to CPU 7 refused: EINVAL"}), "");
+  const std::string fifo = "realtime: SCHED_FIFO priority 80 refused: Operation not permitted";
+  EXPECT_EQ(required_refusal({"realtime: pinning to CPU 7 refused: EINVAL", fifo}), fifo);
+  const std::string lock = "realtime: mlockall refused: Cannot allocate memory";
+  EXPECT_EQ(required_refusal({lock}), lock);
+}
+
+}  // namespace
+}  // namespace sculpt::rt

@@ -163,7 +163,7 @@ TEST(Scene, DefaultsAreApplied) {
   EXPECT_EQ(s.registration.translation, deform::Vec3{});
   EXPECT_EQ(s.haptic.sink, hal::SinkKind::kNone);
   EXPECT_DOUBLE_EQ(s.loop.rate_hz, 1000.0);
-  EXPECT_FALSE(s.loop.realtime);
+  EXPECT_EQ(s.loop.realtime, RealtimeMode::kOff);
   EXPECT_FALSE(s.loop.lock_memory);
   EXPECT_EQ(s.loop.cpu, -1);
   EXPECT_EQ(s.lcm.url, "udpm://239.255.76.67:7667?ttl=0");
@@ -374,7 +374,7 @@ flush_interval_ms = 20
   EXPECT_NEAR(s.registration.rotation[3], 1.0, 1e-15);
   EXPECT_EQ(s.registration.translation, (deform::Vec3{0.1, 0.2, 0.3}));
   EXPECT_DOUBLE_EQ(s.loop.rate_hz, 500.0);
-  EXPECT_TRUE(s.loop.realtime);
+  EXPECT_EQ(s.loop.realtime, RealtimeMode::kTry);  // true means "try"
   EXPECT_EQ(s.loop.cpu, 1);
   EXPECT_TRUE(s.lcm.publish);
   EXPECT_EQ(*s.output.log, "/base/e.lcmlog");
@@ -681,6 +681,25 @@ TEST(Scene, SyntaxErrorsUseTomlsPosition) {
     EXPECT_EQ(e.key(), "toml");
     EXPECT_GE(e.line(), 10);
     EXPECT_GT(e.column(), 0);
+  }
+}
+
+}  // namespace
+}  // namespace sculpt::rt
+
+namespace sculpt::rt {
+namespace {
+
+TEST(Scene, RealtimeIsOffTryOrRequire) {
+  EXPECT_EQ(parse(kMinimal + "[loop]\nrealtime = false\n").loop.realtime, RealtimeMode::kOff);
+  EXPECT_EQ(parse(kMinimal + "[loop]\nrealtime = \"try\"\n").loop.realtime, RealtimeMode::kTry);
+  EXPECT_EQ(parse(kMinimal + "[loop]\nrealtime = \"require\"\n").loop.realtime, RealtimeMode::kRequire);
+  try {
+    parse(kMinimal + "[loop]\nrealtime = \"always\"\n");
+    FAIL() << "an unknown mode must be refused";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("realtime"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("require"), std::string::npos) << e.what();
   }
 }
 

@@ -34,4 +34,8 @@ struct RealtimeOptions {
 ///        outside the SCHED_FIFO range when fifo is asked for, or cpu < -1 or beyond CPU_SETSIZE.
 std::vector<std::string> apply_realtime(const RealtimeOptions& options);
 
+/// Of apply_realtime's warnings, the first that a station which requires real time cannot run
+/// with (SCHED_FIFO or the memory lock refused), or empty.
+std::string required_refusal(const std::vector<std::string>& warnings);
+
 }  // namespace sculpt::rt

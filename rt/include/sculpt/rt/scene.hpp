@@ -132,9 +132,14 @@ struct RegistrationScene {
   std::vector<Landmark> landmarks;  ///< empty, or at least 3 not on one line
 };
 
+/// loop.realtime: `false` asks for nothing; "try" (or `true`) asks for SCHED_FIFO and runs
+/// anyway when refused; "require" asks for SCHED_FIFO and mlockall and refuses to start
+/// without them, so a station believed real-time is.
+enum class RealtimeMode { kOff, kTry, kRequire };
+
 struct LoopScene {
   double rate_hz = 1000.0;  ///< 50 .. 2000
-  bool realtime = false;    ///< SCHED_FIFO
+  RealtimeMode realtime = RealtimeMode::kOff;
   bool lock_memory = false; ///< mlockall
   int cpu = -1;             ///< pin the loop thread to this CPU; -1 none
 };
