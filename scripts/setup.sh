@@ -20,6 +20,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   can-utils
   libcgal-demo zlib1g-dev
+  libosmesa6-dev libglfw3-dev libgl-dev xvfb xdotool
   python3
 )
 
