@@ -247,7 +247,19 @@ class RunCommand final : public Command {
             {"index_rebuilds", t.index_rebuilds},
             {"faults", faults},
             {"guards", guards},
-            {"haptic_dropped", station.haptic() ? station.haptic()->dropped() : 0}};
+            {"haptic", haptic_json(station.haptic(), loop)}};
+  }
+
+  // What reached the glove's actuators: a serial line slower than the loop delivers fewer
+  // commands than the loop sent (the newest per hand; the rest superseded), and says so here.
+  static nlohmann::json haptic_json(const hal::HapticSink* sink, const rt::FixedRateLoop& loop) {
+    if (!sink) return nullptr;
+    const double seconds = loop.achieved_rate() > 0.0 ? static_cast<double>(loop.stats().ticks) / loop.achieved_rate() : 0.0;
+    return {{"sink", sink->name()},
+            {"delivered", sink->delivered()},
+            {"superseded", sink->superseded()},
+            {"dropped", sink->dropped()},
+            {"delivered_rate_hz", seconds > 0.0 ? static_cast<double>(sink->delivered()) / seconds : 0.0}};
   }
 
   CLI::App* sub_ = nullptr;

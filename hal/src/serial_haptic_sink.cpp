@@ -112,7 +112,7 @@ bool SerialHapticSink::try_connect() noexcept {
   return true;
 }
 
-bool SerialHapticSink::write_frame(std::span<const std::uint8_t> frame) noexcept {
+bool SerialHapticSink::write_frame(std::span<const std::uint8_t> frame, std::size_t& sent) noexcept {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(kWriteTimeoutMs);
   while (!frame.empty()) {
     const IoResult r = port_.write(frame);
@@ -123,6 +123,7 @@ bool SerialHapticSink::write_frame(std::span<const std::uint8_t> frame) noexcept
     }
     if (r.status == IoStatus::kOk) {
       frame = frame.subspan(r.bytes);
+      sent += r.bytes;
       continue;
     }
     const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
@@ -138,19 +139,38 @@ bool SerialHapticSink::write_frame(std::span<const std::uint8_t> frame) noexcept
   return true;
 }
 
+void SerialHapticSink::deliver(const HapticCommand& command) noexcept {
+  if (!port_.is_open()) {
+    dropped_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  const std::size_t n = encode_haptic_frame(command, sequence_++, monotonic_us(),
+                                            std::span<std::uint8_t>(frame_).subspan(1));
+  const std::size_t begin = cut_frame_on_line_ ? 0 : 1;  // frame_[0] is a zero delimiter
+  std::size_t sent = 0;
+  if (write_frame(std::span<const std::uint8_t>(frame_.data() + begin, 1 + n - begin), sent)) {
+    written_.fetch_add(1, std::memory_order_relaxed);
+    cut_frame_on_line_ = false;
+  } else {
+    dropped_.fetch_add(1, std::memory_order_relaxed);
+    cut_frame_on_line_ = cut_frame_on_line_ || sent > 0;
+  }
+}
+
 void SerialHapticSink::drain_queue() noexcept {
+  // Everything queued while the last frame was on the wire is older than the newest command
+  // of its hand: only that one is sent (see the class comment).
+  std::array<HapticCommand, kHands> newest{};
+  std::array<bool, kHands> pending{};
   HapticCommand command;
   while (queue_.pop(command)) {
-    if (!port_.is_open()) {
-      dropped_.fetch_add(1, std::memory_order_relaxed);
-      continue;
-    }
-    const std::size_t n = encode_haptic_frame(command, sequence_++, monotonic_us(), frame_);
-    if (write_frame(std::span<const std::uint8_t>(frame_.data(), n))) {
-      written_.fetch_add(1, std::memory_order_relaxed);
-    } else {
-      dropped_.fetch_add(1, std::memory_order_relaxed);
-    }
+    const std::size_t hand = command.hand < kHands ? command.hand : kHands - 1;
+    if (pending[hand]) superseded_.fetch_add(1, std::memory_order_relaxed);
+    newest[hand] = command;
+    pending[hand] = true;
+  }
+  for (std::size_t hand = 0; hand < kHands; ++hand) {
+    if (pending[hand]) deliver(newest[hand]);
   }
 }
 

@@ -207,6 +207,11 @@ TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) 
     best = std::max(best, n);
   }
   EXPECT_GE(best, 500u);
+  // The station's own account: it published at least what the logger heard (UDP may drop).
+  const nlohmann::json summary = nlohmann::json::parse(slurp(dir_ / "sphere-press.json"));
+  EXPECT_EQ(summary["haptic"]["sink"], "lcm");
+  EXPECT_GE(summary["haptic"]["delivered"].get<std::size_t>(), commands.size());
+  EXPECT_EQ(summary["haptic"]["dropped"].get<std::size_t>(), 0u);
   EXPECT_FALSE(commands.back().in_contact);
   EXPECT_EQ(commands.back().force, 0.0) << "the finger let go: the last command must release it";
   std::printf("[ haptic ] lcm-logger captured %zu commands, %zu in contact, %zu in the best second, peak %.3f N\n",

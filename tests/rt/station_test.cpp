@@ -58,6 +58,7 @@ class RecordingSink final : public hal::HapticSink {
     return true;
   }
   std::uint64_t dropped() const noexcept override { return 0; }
+  std::uint64_t delivered() const noexcept override { return log_->size(); }
   const char* name() const noexcept override { return "recording"; }
 
  private:

@@ -34,6 +34,7 @@ class CanHapticSink final : public HapticSink {
   const char* name() const noexcept override { return "socketcan"; }
   /// Commands written to the bus in full.
   std::uint64_t sent() const noexcept { return sent_.load(std::memory_order_relaxed); }
+  std::uint64_t delivered() const noexcept override { return sent(); }
 
  private:
   void run() noexcept;

@@ -25,7 +25,13 @@ class HapticSink {
   virtual void start() = 0;
   virtual void stop() = 0;
   virtual bool send(const HapticCommand& command) noexcept = 0;
+  /// Commands that could not be delivered (queue full, link down, write timed out).
   virtual std::uint64_t dropped() const noexcept = 0;
+  /// Commands that reached the link (published, written, sent).
+  virtual std::uint64_t delivered() const noexcept = 0;
+  /// Commands deliberately not sent because a newer one for the same hand replaced them
+  /// before the link had room: a slow link carries the newest force, never a backlog.
+  virtual std::uint64_t superseded() const noexcept { return 0; }
   virtual const char* name() const noexcept = 0;
 };
 

@@ -41,6 +41,7 @@ class LcmHapticSink final : public HapticSink {
   /// Commands refused because the queue was full.
   std::uint64_t dropped() const noexcept override { return dropped_.load(std::memory_order_relaxed); }
   std::uint64_t published() const noexcept { return published_.load(std::memory_order_relaxed); }
+  std::uint64_t delivered() const noexcept override { return published(); }
   /// Commands that failed to encode or that LCM refused to publish.
   std::uint64_t publish_errors() const noexcept { return publish_errors_.load(std::memory_order_relaxed); }
   const char* name() const noexcept override { return "lcm"; }

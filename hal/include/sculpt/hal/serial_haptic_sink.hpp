@@ -21,6 +21,12 @@ namespace sculpt::hal {
 /// CLOCK_MONOTONIC. Reconnects like SerialGloveSource. Commands that cannot be delivered
 /// (device absent, or not draining for kWriteTimeoutMs) are discarded and counted in
 /// dropped(): stale forces must never reach the hand late.
+///
+/// A serial line may be slower than the loop (a command is about 87 bytes, so one hand at
+/// 1 kHz needs about 87 kB/s against about 92 kB/s at 921,600 baud; two hands do not fit).
+/// Each time the writer gets to the queue it therefore sends only the newest command of each
+/// hand and counts the older ones as superseded(): the line runs as fast as it can with the
+/// newest force, and never drains a backlog of old ones.
 class SerialHapticSink final : public HapticSink {
  public:
   /// How long one frame may wait for room on the device before it is dropped.
@@ -43,6 +49,8 @@ class SerialHapticSink final : public HapticSink {
   bool send(const HapticCommand& command) noexcept override;
   /// Commands not delivered: queue full, device absent, or write timed out.
   std::uint64_t dropped() const noexcept override;
+  std::uint64_t delivered() const noexcept override { return frames_written(); }
+  std::uint64_t superseded() const noexcept override { return superseded_.load(std::memory_order_relaxed); }
   const char* name() const noexcept override { return "serial"; }
 
   /// Frames written to the device completely.
@@ -54,15 +62,21 @@ class SerialHapticSink final : public HapticSink {
   void run() noexcept;
   bool try_connect() noexcept;
   void drain_queue() noexcept;
-  bool write_frame(std::span<const std::uint8_t> frame) noexcept;
+  /// Writes the whole frame, or gives up after kWriteTimeoutMs; `sent` counts bytes written.
+  bool write_frame(std::span<const std::uint8_t> frame, std::size_t& sent) noexcept;
+  void deliver(const HapticCommand& command) noexcept;
 
   SerialConfig config_;
   SpscQueue<HapticCommand> queue_;
   SerialPort port_;
-  std::array<std::uint8_t, kMaxFrameBytes> frame_{};
+  /// One delimiter byte, then the frame: the delimiter is sent only after a frame was cut
+  /// short by a write timeout, so the glove's decoder drops the cut frame, not the next one.
+  std::array<std::uint8_t, 1 + kMaxFrameBytes> frame_{};
+  bool cut_frame_on_line_ = false;
   std::uint32_t sequence_ = 0;
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<std::uint64_t> written_{0};
+  std::atomic<std::uint64_t> superseded_{0};
   std::atomic<bool> connected_{false};
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;
