@@ -14,11 +14,12 @@
 #include <thread>
 
 #include "commands.hpp"
-#include "station_recording.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/rt/fixed_rate_loop.hpp"
 #include "sculpt/rt/realtime_setup.hpp"
 #include "sculpt/rt/scene.hpp"
+#include "sculpt/rt/session_recorder.hpp"
+#include "sculpt/rt/station_run.hpp"
 #include "sculpt/rt/station_setup.hpp"
 
 namespace sculpt::tools {
@@ -26,13 +27,6 @@ namespace {
 
 std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
-
-// What the status line shows, published by the loop with relaxed atomics: the loop never
-// prints, the status thread never touches the station.
-struct LiveStatus {
-  std::atomic<std::uint64_t> ticks{0}, overruns{0}, collisions{0}, region_points{0}, samples{0}, deform_ns{0};
-  std::atomic<int> glove{0};
-};
 
 const char* glove_name(rt::GloveState s) {
   switch (s) {
@@ -120,42 +114,20 @@ class RunCommand final : public Command {
     sigaction(SIGTERM, &action, nullptr);
     g_stop.store(false);
 
-    std::unique_ptr<Recording> recording = make_recording(scene);
-    rt::StationRecorder* recorder = recording ? recording->recorder() : nullptr;
-    station->set_recorder(recorder);
-    if (recording) recording->start();
+    std::unique_ptr<rt::SessionRecorder> recorder = rt::make_session_recorder(scene);
+    station->set_recorder(recorder.get());
+    if (recorder) recorder->start();
     station->start();
     rt::FixedRateLoop loop(scene.loop.rate_hz);
-    LiveStatus live;
+    rt::LiveStatus live;
     std::atomic<bool> status_done{false};
     std::thread status([&] { show_status(live, status_done, loop.rate_hz()); });
 
-    const std::int64_t period = loop.period_ns();
     const std::int64_t start = rt::monotonic_now_ns();
     const std::int64_t end = duration_s_ > 0.0 ? start + static_cast<std::int64_t>(duration_s_ * 1e9) : INT64_MAX;
-    const std::uint64_t stats_overruns_at_start = 0;
-    loop.run(
-        [&](std::uint64_t, std::int64_t deadline) noexcept {
-          const std::int64_t now = rt::monotonic_now_ns();
-          const rt::TickReport& r = station->tick(now, deadline + period - now);
-          if (recorder) {
-            const rt::LoopStats& ls = loop.stats();
-            recorder->tick(r, ls.overruns, ls.missed_periods, static_cast<double>(rt::monotonic_now_ns() - now) * 1e-3);
-          }
-          live.ticks.store(r.tick + 1, std::memory_order_relaxed);
-          live.overruns.store(loop.stats().overruns - stats_overruns_at_start, std::memory_order_relaxed);
-          live.collisions.fetch_add(r.collisions, std::memory_order_relaxed);
-          if (r.frame) {
-            live.region_points.store(r.region_points, std::memory_order_relaxed);
-            live.deform_ns.store(static_cast<std::uint64_t>(r.deform_ns), std::memory_order_relaxed);
-          }
-          live.samples.fetch_add(r.samples, std::memory_order_relaxed);
-          live.glove.store(static_cast<int>(r.glove), std::memory_order_relaxed);
-          if (now >= end) g_stop.store(true, std::memory_order_release);
-        },
-        g_stop);
+    rt::run_station(*station, loop, recorder.get(), live, end, g_stop);
     station->stop();
-    if (recording) recording->stop();  // drains and flushes: nothing recorded is lost
+    if (recorder) recorder->stop();  // drains and flushes: nothing recorded is lost
     status_done.store(true);
     status.join();
 
@@ -165,7 +137,7 @@ class RunCommand final : public Command {
       deform::write_model(out, setup.model);
     }
     nlohmann::json summary = make_summary(*station, loop);
-    if (recording) summary["recording"] = nlohmann::json::parse(recording->summary_json());
+    if (recorder) summary["recording"] = recording_json(recorder->counts());
     const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
     if (!json.empty()) {
       create_parent(json);
@@ -190,7 +162,21 @@ class RunCommand final : public Command {
     if (!parent.empty()) std::filesystem::create_directories(parent);
   }
 
-  void show_status(const LiveStatus& live, const std::atomic<bool>& done, double rate) const {
+  static nlohmann::json recording_json(const rt::RecordingCounts& c) {
+    nlohmann::json j = nlohmann::json::object();
+    if (c.logging) {
+      j["log"] = {{"path", c.log_path},           {"glove_samples", c.glove_samples}, {"fingertips", c.fingertips},
+                  {"collisions", c.collisions},   {"ticks", c.ticks},                 {"haptic", c.haptic},
+                  {"dropped", c.log_dropped},     {"write_errors", c.write_errors}};
+    }
+    if (c.publishing) {
+      j["live"] = {{"collisions", c.live_collisions}, {"ticks", c.live_ticks},
+                   {"fingertips", c.live_fingertips}, {"dropped", c.live_dropped}};
+    }
+    return j;
+  }
+
+  void show_status(const rt::LiveStatus& live, const std::atomic<bool>& done, double rate) const {
     const bool tty = isatty(STDOUT_FILENO) && !quiet_;
     std::uint64_t last_ticks = 0;
     auto last = std::chrono::steady_clock::now();

@@ -1,5 +1,7 @@
 #include "sculpt/rt/transfer.hpp"
 
+#include "sculpt/rt/collision_records.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,7 +16,6 @@ using logging::CollisionRecord;
 using logging::RegionKind;
 
 deform::Vec3 to_vec(const logging::Vec3d& v) { return {v[0], v[1], v[2]}; }
-logging::Vec3d to_array(const deform::Vec3& v) { return {v.x, v.y, v.z}; }
 
 std::string frame_name(std::int64_t id) { return "frame " + std::to_string(id); }
 
@@ -194,46 +195,6 @@ TransferStats transfer(deform::PointModel& target, std::span<const CollisionReco
   return stats;
 }
 
-CollisionRecord collision_record(const deform::ContactReport& c, const deform::FrameReport& report,
-                                 const deform::DeformSettings& settings, std::int64_t frame_id,
-                                 std::int64_t tick) noexcept {
-  const bool radius = settings.region.kind == deform::RegionSettings::Kind::kRadius;
-  const deform::Kernel& k = settings.kernel;
-  CollisionRecord r;
-  r.tick = tick;
-  r.mode = settings.contact.mode == deform::ContactMode::kPull ? logging::CollisionMode::kPull
-                                                                : logging::CollisionMode::kPush;
-  r.probe = to_array(c.probe_after);
-  r.contact_index = static_cast<std::int32_t>(c.nearest);
-  r.contact = to_array(c.contact);
-  r.source = to_array(c.source);
-  r.force = to_array(c.force);
-  r.weights = to_array(c.weights);
-  r.effective_force = to_array(c.effective_force);
-  r.bc_radius = settings.contact.bc_radius;
-  r.region_kind = radius ? RegionKind::kRadius : RegionKind::kGlobal;
-  r.region_centre = to_array(c.contact);
-  r.region_radius = radius ? settings.region.radius : 0.0;
-  r.kernel = k.kind == deform::KernelKind::kRegularized ? logging::KernelKind::kRegularized
-                                                        : logging::KernelKind::kKelvin;
-  r.kernel_eps = k.regularization;
-  r.shear_modulus = k.material.shear_modulus;
-  r.poisson_ratio = k.material.poisson_ratio;
-  r.form = settings.solver.form == deform::WeightForm::kForce ? logging::ForceForm::kForce
-                                                              : logging::ForceForm::kScale;
-  r.residual = report.solve.relative_residual;  // the type and the docs say relative
-  r.condition = report.solve.condition;
-  r.frame_id = frame_id;
-  r.frame_size = static_cast<std::uint8_t>(report.collisions);
-  r.min_jacobian = report.min_jacobian;
-  r.miss = c.miss;
-  std::size_t g = 0;
-  deform::for_each_guard(report.guards, [&](const char*, std::uint32_t count) {
-    if (g < r.guards.size()) r.guards[g++] = static_cast<std::int32_t>(std::min<std::uint32_t>(count, INT32_MAX));
-  });
-  return r;
-}
-
 std::size_t append_frame_records(const deform::FrameReport& report,
                                  const deform::DeformSettings& settings, std::int64_t frame_id,
                                  std::int64_t tick, std::vector<CollisionRecord>& out) {
@@ -241,12 +202,14 @@ std::size_t append_frame_records(const deform::FrameReport& report,
   if (settings.region.kind == deform::RegionSettings::Kind::kIndices) {
     throw std::invalid_argument("transfer: an index-set region cannot be recorded for transfer");
   }
-  std::size_t added = 0;
-  for (const deform::ContactReport& c : report.contacts) {
-    if (c.state != deform::ProbeState::kCollided) continue;
-    out.push_back(collision_record(c, report, settings, frame_id, tick));
-    ++added;
-  }
+  FrameRecord frame;
+  frame.tick = static_cast<std::uint64_t>(tick);
+  frame.frame_id = frame_id;
+  frame.report = &report;
+  frame.settings = &settings;
+  std::array<CollisionRecord, deform::kMaxSources> records;
+  const std::size_t added = frame_collision_records(frame, records);
+  out.insert(out.end(), records.begin(), records.begin() + static_cast<std::ptrdiff_t>(added));
   return added;
 }
 

@@ -96,12 +96,6 @@ TransferStats transfer(deform::PointModel& target, std::span<const logging::Coll
                        const std::function<void(std::size_t done, std::size_t total)>& progress = {},
                        const TransferOptions& options = {});
 
-/// The record of one collided contact of a frame: what re-applies it without collision
-/// detection. noexcept and allocation-free, so the station's recorder can call it in the loop.
-logging::CollisionRecord collision_record(const deform::ContactReport& contact, const deform::FrameReport& report,
-                                          const deform::DeformSettings& settings, std::int64_t frame_id,
-                                          std::int64_t tick) noexcept;
-
 /// The records of one Deformer frame, appended to `out`: one per collided probe, in probe
 /// order, sharing `frame_id`. Nothing is appended when the frame moved nothing (no collision,
 /// or no finite solution), because replaying such a frame must not move anything either.
