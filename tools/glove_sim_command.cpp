@@ -17,7 +17,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "sculpt/logging/channels.hpp"
-#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
 #endif
 
 namespace sculpt::tools {
@@ -53,7 +53,7 @@ class LcmSink final : public SampleSink {
   }
   bool send(const hal::GloveSample& s) override {
     sculpt_lcm::glove_sample_t message;
-    logging::to_lcm(s, rt::monotonic_now_ns() / 1000, message);
+    hal::to_lcm(s, base::wall_time_us(), message);  // wall clock: monotonic times never go on the wire
     return lcm_.publish(channel_, &message) == 0;
   }
   bool recover() override { return lcm_.good(); }

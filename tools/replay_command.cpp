@@ -18,7 +18,7 @@
 #if SCULPT_HAS_LCM
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
-#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/logging/records.hpp"
 #include "sculpt/rt/reduced_model.hpp"
 #include "sculpt/rt/replay_glove_source.hpp"
@@ -69,7 +69,7 @@ SessionLog read_session(const std::string& path) {
       hal::GloveSample sample;
       if (!logging::decode(event, message, error)) {
         log.skipped.push_back(error);
-      } else if (!logging::from_lcm(message, sample)) {
+      } else if (!hal::from_lcm(message, sample)) {
         log.skipped.push_back(path + ": byte offset " + std::to_string(event.offset) +
                               ": SCULPT_GLOVE event with invalid fields");
       } else {

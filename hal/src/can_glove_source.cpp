@@ -1,5 +1,7 @@
 #include "sculpt/hal/can_glove_source.hpp"
 
+#include "sculpt/base/clock.hpp"
+
 #include <linux/can.h>
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
@@ -16,12 +18,6 @@
 
 namespace sculpt::hal {
 namespace {
-
-std::int64_t now_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 std::string errno_text(int e) { return std::strerror(e); }
 
@@ -124,7 +120,7 @@ void CanGloveSource::on_frame(const CanFrame& frame) noexcept {
     const CanFeedResult r = decoders_[h].feed(frame, sample);
     if (r == CanFeedResult::kIgnored) continue;
     if (r == CanFeedResult::kComplete) {
-      sample.receive_time_ns = now_ns();
+      sample.receive_time_ns = base::monotonic_now_ns();
       if (queue_.push(sample))
         counters_.samples.fetch_add(1, std::memory_order_relaxed);
       else

@@ -1,5 +1,7 @@
 #include "sculpt/hal/can_haptic_sink.hpp"
 
+#include "sculpt/base/clock.hpp"
+
 #include <linux/can.h>
 #include <net/if.h>
 #include <time.h>
@@ -75,21 +77,15 @@ bool CanHapticSink::write_command(const HapticCommand& command) noexcept {
 }
 
 void CanHapticSink::run() noexcept {
-  timespec next{};
-  clock_gettime(CLOCK_MONOTONIC, &next);
+  std::int64_t next = base::monotonic_now_ns();
   std::array<HapticCommand, kHands> newest{};
   std::array<bool, kHands> have{};
   while (!stop_requested_.load(std::memory_order_acquire)) {
-    next.tv_nsec += kWakeNs;
-    if (next.tv_nsec >= 1'000'000'000) {
-      next.tv_nsec -= 1'000'000'000;
-      ++next.tv_sec;
-    }
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr) == EINTR) {
-    }
+    next += kWakeNs;
+    base::sleep_until_ns(next);
     HapticCommand c;
     while (queue_.pop(c)) {
-      if (have[c.hand]) dropped_.fetch_add(1, std::memory_order_relaxed);
+      if (have[c.hand]) superseded_.fetch_add(1, std::memory_order_relaxed);
       newest[c.hand] = c;
       have[c.hand] = true;
     }

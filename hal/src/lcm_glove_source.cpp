@@ -1,5 +1,7 @@
 #include "sculpt/hal/lcm_glove_source.hpp"
 
+#include "sculpt/base/clock.hpp"
+
 #include <time.h>
 
 #include <chrono>
@@ -7,7 +9,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -17,12 +19,6 @@ namespace {
 constexpr int kHandleTimeoutMs = 50;
 // Back-off while LCM reports errors, so a broken socket does not spin a core.
 constexpr std::chrono::milliseconds kErrorBackoff{50};
-
-std::int64_t monotonic_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 }  // namespace
 
@@ -88,13 +84,13 @@ void LcmGloveSource::on_message(const lcm::ReceiveBuffer* buffer, const std::str
 }
 
 void LcmGloveSource::handle(const void* data, std::uint32_t size) noexcept {
-  const std::int64_t received_ns = monotonic_ns();
+  const std::int64_t received_ns = base::monotonic_now_ns();
   sculpt_lcm::glove_sample_t message;
   // decode checks the type's fingerprint and every length; a message with bytes left over is
   // not a glove_sample_t either.
   const int used = message.decode(data, 0, static_cast<int>(size));
   GloveSample sample;
-  if (used < 0 || static_cast<std::uint32_t>(used) != size || !logging::from_lcm(message, sample)) {
+  if (used < 0 || static_cast<std::uint32_t>(used) != size || !from_lcm(message, sample)) {
     counters_.framing_errors.fetch_add(1, std::memory_order_relaxed);
     return;
   }

@@ -5,8 +5,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "sculpt/logging/glove_messages.hpp"
-#include "sculpt/logging/records.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
+#include "sculpt/base/clock.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -64,7 +64,7 @@ std::size_t LcmHapticSink::drain() noexcept {
   std::array<unsigned char, kMaxEncodedSize> buffer;
   while (queue_.pop(command)) {
     ++sent;
-    logging::to_lcm(command, logging::wall_time_us(), message);
+    to_lcm(command, base::wall_time_us(), message);
     const int size = message.getEncodedSize();
     const bool encoded = size > 0 && static_cast<std::size_t>(size) <= buffer.size() &&
                          message.encode(buffer.data(), 0, size) == size;

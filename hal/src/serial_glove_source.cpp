@@ -1,5 +1,7 @@
 #include "sculpt/hal/serial_glove_source.hpp"
 
+#include "sculpt/base/clock.hpp"
+
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <sys/stat.h>
@@ -20,12 +22,6 @@ namespace {
 // Upper bound on one wait of the I/O thread. stop() wakes it through the eventfd, so this
 // only matters if that wake were lost; it costs a wake-up ten times a second.
 constexpr int kPollTimeoutMs = 100;
-
-std::int64_t monotonic_ns() noexcept {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 void drain_eventfd(int fd) noexcept {
   std::uint64_t value = 0;
@@ -136,7 +132,7 @@ void SerialGloveSource::handle_bytes(std::span<const std::uint8_t> bytes) noexce
     GloveSample sample = frame.sample;
     const std::uint32_t missing = tracker_.observe(sample.hand, sample.sequence);
     if (missing != 0) counters_.sequence_gaps.fetch_add(missing, std::memory_order_relaxed);
-    sample.receive_time_ns = monotonic_ns();
+    sample.receive_time_ns = base::monotonic_now_ns();
     if (queue_.push(sample)) {
       counters_.samples.fetch_add(1, std::memory_order_relaxed);
     } else {

@@ -1,5 +1,7 @@
 #include "sculpt/hal/serial_haptic_sink.hpp"
 
+#include "sculpt/base/clock.hpp"
+
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <sys/stat.h>
@@ -19,13 +21,6 @@ namespace sculpt::hal {
 namespace {
 
 constexpr int kPollTimeoutMs = 100;
-
-std::uint64_t monotonic_us() noexcept {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000u +
-         static_cast<std::uint64_t>(ts.tv_nsec) / 1000u;
-}
 
 }  // namespace
 
@@ -144,7 +139,7 @@ void SerialHapticSink::deliver(const HapticCommand& command) noexcept {
     dropped_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  const std::size_t n = encode_haptic_frame(command, sequence_++, monotonic_us(),
+  const std::size_t n = encode_haptic_frame(command, sequence_++, base::monotonic_now_us(),
                                             std::span<std::uint8_t>(frame_).subspan(1));
   const std::size_t begin = cut_frame_on_line_ ? 0 : 1;  // frame_[0] is a zero delimiter
   std::size_t sent = 0;

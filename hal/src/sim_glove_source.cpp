@@ -1,5 +1,7 @@
 #include "sculpt/hal/sim_glove_source.hpp"
 
+#include "sculpt/base/clock.hpp"
+
 #include <time.h>
 
 #include <algorithm>
@@ -13,20 +15,6 @@ constexpr std::int64_t kNsPerS = 1'000'000'000;
 // The thread wakes at least this often while waiting, so stop() never waits on a long gap
 // between samples.
 constexpr std::int64_t kMaxSleepNs = 20'000'000;
-
-std::int64_t now_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
-}
-
-void sleep_until_ns(std::int64_t deadline) noexcept {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(deadline / kNsPerS);
-  ts.tv_nsec = static_cast<long>(deadline % kNsPerS);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
 
 }  // namespace
 
@@ -45,7 +33,7 @@ void SimGloveSource::start() {
   script_.reset();
   stop_requested_.store(false, std::memory_order_relaxed);
   finished_.store(false, std::memory_order_relaxed);
-  start_ns_ = now_ns();
+  start_ns_ = base::monotonic_now_ns();
   state_.store(SourceState::kConnected, std::memory_order_release);
   thread_ = std::thread([this] { run(); });
 }
@@ -68,11 +56,11 @@ void SimGloveSource::run() noexcept {
     }
     const std::int64_t due =
         start_ns_ + static_cast<std::int64_t>(sample.device_time_us) * 1000 + latency_ns_;
-    for (std::int64_t now = now_ns(); now < due; now = now_ns()) {
+    for (std::int64_t now = base::monotonic_now_ns(); now < due; now = base::monotonic_now_ns()) {
       if (stop_requested_.load(std::memory_order_acquire)) return;
-      sleep_until_ns(std::min(due, now + kMaxSleepNs));
+      base::sleep_until_ns(std::min(due, now + kMaxSleepNs));
     }
-    sample.receive_time_ns = now_ns();
+    sample.receive_time_ns = base::monotonic_now_ns();
     const std::size_t h = sample.hand;
     if (sample.sequence != next_sequence[h])
       counters_.sequence_gaps.fetch_add(sample.sequence - next_sequence[h], std::memory_order_relaxed);

@@ -1,5 +1,7 @@
 #include "sculpt/hal/usb_glove_source.hpp"
 
+#include "sculpt/base/clock.hpp"
+
 #include <libusb.h>
 #include <time.h>
 
@@ -12,12 +14,6 @@ namespace {
 
 constexpr std::int64_t kReopenIntervalNs = 200'000'000;
 constexpr int kEventTimeoutUs = 50'000;  // how long stop() may wait for the event thread to notice
-
-std::int64_t now_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 std::string ids(const UsbConfig& c) {
   char text[16];
@@ -226,7 +222,7 @@ void UsbGloveSource::on_bytes(const std::uint8_t* data, std::size_t size) noexce
   decoder_.feed(std::span<const std::uint8_t>(data, size), [this](const DecodedFrame& frame) {
     if (frame.type != DecodedFrame::Type::kSample) return;  // haptic frames go the other way
     GloveSample s = frame.sample;
-    s.receive_time_ns = now_ns();
+    s.receive_time_ns = base::monotonic_now_ns();
     sequences_.observe(s.hand, s.sequence);
     if (queue_.push(s))
       counters_.samples.fetch_add(1, std::memory_order_relaxed);
@@ -255,7 +251,7 @@ void UsbGloveSource::run() noexcept {
     // Wait for every transfer to come back before closing the handle under them.
     if (any_in_flight()) continue;
     close_device();
-    const std::int64_t now = now_ns();
+    const std::int64_t now = base::monotonic_now_ns();
     if (!arrived_.exchange(false) && now < next_attempt) continue;
     next_attempt = now + kReopenIntervalNs;
     const char* why = "";

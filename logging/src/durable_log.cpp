@@ -15,7 +15,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "sculpt/logging/channels.hpp"
-#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
 
 namespace sculpt::logging {
 namespace {

@@ -23,12 +23,6 @@ bool finite3(const double (&v)[3]) noexcept {
 
 }  // namespace
 
-std::int64_t wall_time_us() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1'000;
-}
-
 void to_lcm(const FingertipRecord& record, sculpt_lcm::fingertip_state_t& out) noexcept {
   out.utime = record.utime;
   out.tick = record.tick;

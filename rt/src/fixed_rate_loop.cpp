@@ -8,21 +8,6 @@
 
 namespace sculpt::rt {
 
-std::int64_t monotonic_now_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-void sleep_until_ns(std::int64_t deadline_ns) noexcept {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(deadline_ns / 1'000'000'000);
-  ts.tv_nsec = static_cast<long>(deadline_ns % 1'000'000'000);
-  // With TIMER_ABSTIME a signal costs nothing: sleeping again to the same deadline is exact.
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
-
 FixedRateLoop::FixedRateLoop(double rate_hz) : rate_hz_(rate_hz), period_ns_(0) {
   if (!(rate_hz >= kMinRateHz && rate_hz <= kMaxRateHz)) {
     throw std::invalid_argument("fixed-rate loop: the rate must be " + std::to_string(kMinRateHz) +

@@ -17,7 +17,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "sculpt/hal/lcm_glove_source.hpp"
-#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt_lcm/haptic_command_t.hpp"
 
 namespace sculpt::hal {
@@ -37,7 +37,7 @@ GloveSample make_sample(std::uint8_t hand, std::uint32_t sequence) {
 
 std::vector<std::uint8_t> encode(const GloveSample& s) {
   sculpt_lcm::glove_sample_t m{};
-  logging::to_lcm(s, 0, m);
+  hal::to_lcm(s, 0, m);
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
   m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   return bytes;
@@ -137,7 +137,7 @@ TEST(LcmGloveSource, CorruptMessagesAreFramingErrorsAndTheNextGoodSampleArrives)
     bad.joints[6][1] = std::nanf("");  // decodes, but is not a usable sample
     publish(lcm, bad);
     sculpt_lcm::glove_sample_t m{};
-    logging::to_lcm(make_sample(0, 1), 0, m);
+    hal::to_lcm(make_sample(0, 1), 0, m);
     m.hand = 3;
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
     m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));

@@ -12,8 +12,8 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "sculpt/hal/lcm_haptic_sink.hpp"
-#include "sculpt/logging/glove_messages.hpp"
-#include "sculpt/logging/records.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
+#include "sculpt/base/clock.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -53,7 +53,7 @@ TEST(LcmHapticSink, PublishesDecodableCommandsOnTheHapticChannel) {
   LcmHapticSink sink(lcm, config, 16);
   EXPECT_STREQ(sink.name(), "lcm");
   sink.start();
-  const std::int64_t before = logging::wall_time_us();
+  const std::int64_t before = base::wall_time_us();
   for (std::uint32_t t = 10; t < 13; ++t) EXPECT_TRUE(sink.send(make_command(t)));
   capture.wait_for(lcm, 3);
   sink.stop();
@@ -65,7 +65,7 @@ TEST(LcmHapticSink, PublishesDecodableCommandsOnTheHapticChannel) {
     ASSERT_EQ(m.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
     EXPECT_GE(m.utime, before);
     HapticCommand got;
-    ASSERT_TRUE(logging::from_lcm(m, got));
+    ASSERT_TRUE(hal::from_lcm(m, got));
     const HapticCommand want = make_command(static_cast<std::uint32_t>(10 + i));
     EXPECT_EQ(got.hand, want.hand);
     EXPECT_EQ(got.tick, want.tick);

@@ -21,7 +21,7 @@
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/durable_log.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
-#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/logging/records.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
 #include "sculpt_lcm/glove_sample_t.hpp"

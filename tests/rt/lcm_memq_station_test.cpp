@@ -7,7 +7,7 @@
 #include "sculpt/hal/lcm_glove_source.hpp"
 #include "sculpt/hal/sim_script.hpp"
 #include "sculpt/logging/channels.hpp"
-#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/rt/fixed_rate_loop.hpp"
 #include "sculpt/rt/scene.hpp"
 #include "sculpt/rt/station.hpp"
@@ -40,7 +40,7 @@ TEST(LcmMemqStation, ScriptedPressArrivesOverMemqAndDeformsTheSphere) {
   while (script.next(sample) && sample.device_time_us < 2'000'000) {  // the approach and press
     sleep_until_ns(start + static_cast<std::int64_t>(sample.device_time_us) * 1000);
     sculpt_lcm::glove_sample_t message;
-    logging::to_lcm(sample, monotonic_now_ns() / 1000, message);
+    hal::to_lcm(sample, base::wall_time_us(), message);
     ASSERT_EQ(bus.publish(logging::kGloveChannel, &message), 0);
     ++published;
     // Tick until the source has delivered it (bounded: memq hands over within the I/O

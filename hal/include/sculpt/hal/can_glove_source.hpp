@@ -10,7 +10,7 @@
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/can_frame_codec.hpp"
 #include "sculpt/hal/glove_source.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 
 namespace sculpt::hal {
 
@@ -43,7 +43,7 @@ class CanGloveSource final : public GloveSource {
   void on_frame(const CanFrame& frame) noexcept;
 
   CanConfig config_;
-  SpscQueue<GloveSample> queue_;
+  base::SpscQueue<GloveSample> queue_;
   AtomicSourceCounters counters_;
   std::atomic<SourceState> state_{SourceState::kStopped};
   std::atomic<bool> stop_requested_{false};

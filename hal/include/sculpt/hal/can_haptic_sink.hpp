@@ -9,15 +9,15 @@
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/can_frame_codec.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 
 namespace sculpt::hal {
 
 /// Sends haptic commands as CAN frames (ids base + 0x80 + hand). send() only queues; the I/O
 /// thread wakes every millisecond, takes what is queued, keeps the newest command per hand
 /// (an older force is worthless once a newer one exists, and a classic bus cannot carry ten
-/// frames per hand per millisecond) and writes it. Commands superseded that way, refused by
-/// a full queue, or not written by the kernel count as dropped.
+/// frames per hand per millisecond) and writes it. Commands superseded that way count as
+/// superseded; those refused by a full queue or not written by the kernel as dropped.
 class CanHapticSink final : public HapticSink {
  public:
   /// @throw std::invalid_argument as CanGloveSource's constructor.
@@ -31,6 +31,7 @@ class CanHapticSink final : public HapticSink {
   void stop() override;
   bool send(const HapticCommand& command) noexcept override;
   std::uint64_t dropped() const noexcept override { return dropped_.load(std::memory_order_relaxed); }
+  std::uint64_t superseded() const noexcept override { return superseded_.load(std::memory_order_relaxed); }
   const char* name() const noexcept override { return "socketcan"; }
   /// Commands written to the bus in full.
   std::uint64_t sent() const noexcept { return sent_.load(std::memory_order_relaxed); }
@@ -41,8 +42,9 @@ class CanHapticSink final : public HapticSink {
   bool write_command(const HapticCommand& command) noexcept;
 
   CanConfig config_;
-  SpscQueue<HapticCommand> queue_;
+  base::SpscQueue<HapticCommand> queue_;
   std::atomic<std::uint64_t> dropped_{0};
+  std::atomic<std::uint64_t> superseded_{0};
   std::atomic<std::uint64_t> sent_{0};
   std::atomic<bool> stop_requested_{false};
   int socket_ = -1;

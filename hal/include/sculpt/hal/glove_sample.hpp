@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "sculpt/base/vec3.hpp"
+
 namespace sculpt::hal {
 
 inline constexpr std::size_t kHands = 2;
@@ -15,7 +17,7 @@ inline constexpr std::size_t kFingers = 5;  ///< 0 thumb, 1 index, 2 middle, 3 r
 inline constexpr std::size_t kJointPoints = 19;
 inline constexpr std::array<std::size_t, kFingers> kTipJoint = {2, 6, 10, 14, 18};
 
-using Point3f = std::array<float, 3>;
+using Point3f = base::Float3;
 
 enum class SampleKind : std::uint8_t {
   kPositions = 1,  ///< joints[] holds Cartesian joint positions in the glove frame

@@ -12,7 +12,7 @@
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/glove_source.hpp"
 #include "sculpt/hal/sequence_tracker.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 
 namespace lcm {
 class LCM;
@@ -56,7 +56,7 @@ class LcmGloveSource final : public GloveSource {
   lcm::LCM* lcm_ = nullptr;  // owned_ or the shared instance
   std::unique_ptr<lcm::LCM> owned_;
   lcm::Subscription* subscription_ = nullptr;
-  SpscQueue<GloveSample> queue_;
+  base::SpscQueue<GloveSample> queue_;
   AtomicSourceCounters counters_;
   std::atomic<SourceState> state_{SourceState::kStopped};
   std::atomic<bool> stop_requested_{false};

@@ -11,7 +11,7 @@
 
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 
 namespace lcm {
 class LCM;
@@ -54,7 +54,7 @@ class LcmHapticSink final : public HapticSink {
   std::chrono::microseconds poll_period_;
   lcm::LCM* lcm_ = nullptr;  // owned_ or the shared instance
   std::unique_ptr<lcm::LCM> owned_;
-  SpscQueue<HapticCommand> queue_;
+  base::SpscQueue<HapticCommand> queue_;
   std::atomic<std::uint64_t> dropped_{0}, published_{0}, publish_errors_{0};
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;

@@ -16,7 +16,7 @@
 #include "sculpt/hal/glove_source.hpp"
 #include "sculpt/hal/sequence_tracker.hpp"
 #include "sculpt/hal/serial_port.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 
 namespace sculpt::hal {
 
@@ -58,7 +58,7 @@ class SerialGloveSource final : public GloveSource {
   void handle_bytes(std::span<const std::uint8_t> bytes) noexcept;
 
   SerialConfig config_;
-  SpscQueue<GloveSample> queue_;
+  base::SpscQueue<GloveSample> queue_;
   // Owned by the I/O thread while it runs (by start() before it does).
   SerialPort port_;
   FrameDecoder decoder_;

@@ -11,7 +11,7 @@
 #include "sculpt/hal/frame_codec.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
 #include "sculpt/hal/serial_port.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 
 namespace sculpt::hal {
 
@@ -67,7 +67,7 @@ class SerialHapticSink final : public HapticSink {
   void deliver(const HapticCommand& command) noexcept;
 
   SerialConfig config_;
-  SpscQueue<HapticCommand> queue_;
+  base::SpscQueue<HapticCommand> queue_;
   SerialPort port_;
   /// One delimiter byte, then the frame: the delimiter is sent only after a frame was cut
   /// short by a write timeout, so the glove's decoder drops the cut frame, not the next one.

@@ -9,7 +9,7 @@
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/glove_source.hpp"
 #include "sculpt/hal/sim_script.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 
 namespace sculpt::hal {
 
@@ -48,7 +48,7 @@ class SimGloveSource final : public GloveSource {
 
   SimScript script_;
   std::int64_t latency_ns_;
-  SpscQueue<GloveSample> queue_;
+  base::SpscQueue<GloveSample> queue_;
   AtomicSourceCounters counters_;
   std::atomic<SourceState> state_{SourceState::kStopped};
   std::atomic<bool> stop_requested_{false};

@@ -12,7 +12,7 @@
 #include "sculpt/hal/frame_codec.hpp"
 #include "sculpt/hal/glove_source.hpp"
 #include "sculpt/hal/sequence_tracker.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 
 struct libusb_context;
 struct libusb_device;
@@ -67,7 +67,7 @@ class UsbGloveSource final : public GloveSource {
   static void transfer_callback(libusb_transfer* transfer);
 
   UsbConfig config_;
-  SpscQueue<GloveSample> queue_;
+  base::SpscQueue<GloveSample> queue_;
   AtomicSourceCounters counters_;
   std::atomic<SourceState> state_{SourceState::kStopped};
   std::atomic<bool> stop_requested_{false};

@@ -17,7 +17,7 @@
 
 #include "sculpt/hal/glove_sample.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 #include "sculpt/logging/records.hpp"
 
 namespace lcm {
@@ -123,7 +123,7 @@ class DurableLog {
 
   DurableLogConfig config_;
   std::unique_ptr<lcm::LogFile> file_;  // owned by the thread while it runs
-  hal::SpscQueue<Entry> queue_;
+  base::SpscQueue<Entry> queue_;
   std::array<std::string, kLogKinds> channels_;  // made once so writes need not build names
   std::unique_ptr<lcm::LogEvent> event_;        // reused by every write, like its channel string
   Entry scratch_;  // the entry being written; a member because glove samples are large

@@ -11,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include "sculpt/hal/spsc_queue.hpp"
+#include "sculpt/base/spsc_queue.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/records.hpp"
 
@@ -87,9 +87,9 @@ class LcmPublisher {
   PublisherConfig config_;
   lcm::LCM* lcm_ = nullptr;             // owned_ or the shared instance
   std::unique_ptr<lcm::LCM> owned_;
-  hal::SpscQueue<FingertipRecord> fingertips_;
-  hal::SpscQueue<CollisionRecord> collisions_;
-  hal::SpscQueue<TickRecord> ticks_;
+  base::SpscQueue<FingertipRecord> fingertips_;
+  base::SpscQueue<CollisionRecord> collisions_;
+  base::SpscQueue<TickRecord> ticks_;
   AtomicChannelCounters fingertip_counters_, collision_counters_, tick_counters_;
   std::atomic<bool> running_{false};
   std::atomic<bool> stop_requested_{false};

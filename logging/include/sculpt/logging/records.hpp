@@ -7,18 +7,19 @@
 #include <array>
 #include <cstdint>
 
+#include "sculpt/base/clock.hpp"
+#include "sculpt/base/vec3.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
 #include "sculpt_lcm/fingertip_state_t.hpp"
 #include "sculpt_lcm/tick_stats_t.hpp"
 
 namespace sculpt::logging {
 
-using Vec3f = std::array<float, 3>;
-using Vec3d = std::array<double, 3>;
+using Vec3f = base::Float3;
+using Vec3d = base::Double3;
 
-/// Host wall-clock time in microseconds since the Unix epoch (CLOCK_REALTIME; a vDSO read,
-/// noexcept and allocation-free, so the loop may stamp records with it).
-std::int64_t wall_time_us() noexcept;
+/// Records are stamped with the host's wall clock (sculpt/base/clock.hpp).
+using base::wall_time_us;
 
 /// One fingertip after filtering and registration (sculpt_lcm::fingertip_state_t).
 struct FingertipRecord {

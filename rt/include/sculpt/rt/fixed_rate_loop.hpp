@@ -8,16 +8,14 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "sculpt/base/clock.hpp"
 #include "sculpt/rt/latency_histogram.hpp"
 
 namespace sculpt::rt {
 
-/// Reads CLOCK_MONOTONIC in nanoseconds.
-std::int64_t monotonic_now_ns() noexcept;
-
-/// Sleeps until CLOCK_MONOTONIC reaches `deadline_ns` (returns at once if it has passed);
-/// resumes after signals, never returns early.
-void sleep_until_ns(std::int64_t deadline_ns) noexcept;
+/// The loop's clock is the host's monotonic clock (sculpt/base/clock.hpp).
+using base::monotonic_now_ns;
+using base::sleep_until_ns;
 
 /// What one run of the loop did.
 struct LoopStats {

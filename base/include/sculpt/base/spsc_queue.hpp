@@ -9,7 +9,7 @@
 #include <optional>
 #include <type_traits>
 
-namespace sculpt::hal {
+namespace sculpt::base {
 
 template <typename T>
 class SpscQueue {
@@ -60,4 +60,4 @@ class SpscQueue {
   alignas(64) std::size_t head_cache_ = 0;  // consumer's copy of head
 };
 
-}  // namespace sculpt::hal
+}  // namespace sculpt::base

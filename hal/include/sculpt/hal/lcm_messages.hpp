@@ -10,7 +10,7 @@
 #include "sculpt_lcm/glove_sample_t.hpp"
 #include "sculpt_lcm/haptic_command_t.hpp"
 
-namespace sculpt::logging {
+namespace sculpt::hal {
 
 /// Fills `out` from `sample`. `utime` is the host wall-clock time to stamp (microseconds since
 /// the Unix epoch); the sample's receive_time_ns is host-local and is not sent.
@@ -30,4 +30,4 @@ void to_lcm(const hal::HapticCommand& command, std::int64_t utime,
 /// the little finger, finite forces. Returns false otherwise.
 bool from_lcm(const sculpt_lcm::haptic_command_t& message, hal::HapticCommand& out) noexcept;
 
-}  // namespace sculpt::logging
+}  // namespace sculpt::hal

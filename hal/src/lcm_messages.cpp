@@ -1,10 +1,10 @@
-#include "sculpt/logging/glove_messages.hpp"
+#include "sculpt/hal/lcm_messages.hpp"
 
 #include <cmath>
 #include <cstddef>
 #include <limits>
 
-namespace sculpt::logging {
+namespace sculpt::hal {
 namespace {
 
 template <std::size_t N>
@@ -102,4 +102,4 @@ bool from_lcm(const sculpt_lcm::haptic_command_t& message, hal::HapticCommand& o
   return true;
 }
 
-}  // namespace sculpt::logging
+}  // namespace sculpt::hal
