@@ -19,6 +19,10 @@ void ContactSettings::validate() const {
     throw std::invalid_argument("contact: guard distance (delta r) must be >= 0, got " +
                                 std::to_string(guard_distance));
   }
+  if (max_patch_points < 1 || max_patch_points > kMaxPatchPointsLimit) {
+    throw std::invalid_argument("contact: max patch points must be 1 to " + std::to_string(kMaxPatchPointsLimit) +
+                                ", got " + std::to_string(max_patch_points));
+  }
   if (reference && !is_finite(*reference)) {
     throw std::invalid_argument("contact: the reference point is not finite");
   }

@@ -19,6 +19,7 @@ std::size_t typical_patch_points(const PointModel& model, const PointIndex& inde
   const std::size_t samples = std::min<std::size_t>(n, 64);
   std::vector<std::size_t> counts;
   std::vector<std::uint32_t> found;
+  found.reserve(n);  // within_radius fills up to the capacity and never grows it
   for (std::size_t k = 0; k < samples; ++k) {
     index.within_radius(model, model.position(k * n / samples), radius, found);
     counts.push_back(found.size());
@@ -94,11 +95,15 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   effective_.resize(kMaxSources);
   contact_points_.reserve(kMaxSources);
   neighbours_.reserve(n);
-  contact_neighbourhood_.reserve(n);
+  // Every finger's patch holds at most max_patch_points (thinned beyond), so the worst frame
+  // is every probe's full patch plus the region's band (at most every point).
+  const std::size_t patch = std::min(n, settings_.contact.max_patch_points);
+  contact_neighbourhood_.reserve(settings_.max_probes * patch);
+  patch_area_scale_.assign(settings_.max_probes, 1.0);
   neighbourhood_begin_.resize(settings_.max_probes + 1);
   // Each point can be a condition once per contact or guard neighbourhood and once in the band;
   // a frame needing more than this grows the vector once and keeps it.
-  conditions_.reserve(std::min<std::size_t>(2 * n, n + 4096));
+  conditions_.reserve(settings_.max_probes * patch + n);
   if (settings_.traction) {
     // Area per point from the typical nearest-neighbour spacing s (a square grid of pitch s has
     // s^2 per point): enough to turn traction into a resultant force for haptics.
@@ -150,6 +155,7 @@ void Deformer::restore(const PointModel& base) {
 std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displacement, bool record, bool widen,
                                         FrameReport& r) noexcept {
   double radius = settings_.contact.bc_radius;
+  // neighbours_ holds the whole model (reserved at set-up), so every query here is complete.
   index_.within_radius(model_, centre, radius, neighbours_, drift_);
   // A long push can leave A alone in its eps-ball (a needle): the finger's patch is the
   // finger's size, so the ball grows until it holds the points an eps-ball holds on the
@@ -160,6 +166,17 @@ std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displace
       radius *= std::sqrt(2.0);
       index_.within_radius(model_, centre, radius, neighbours_, drift_);
     }
+  }
+  // Beyond the cap, keep every k-th point (k = size / cap, fractional): an even thinning of the
+  // patch, in place and in index order.
+  const std::size_t cap = settings_.contact.max_patch_points;
+  last_patch_scale_ = 1.0;
+  if (neighbours_.size() > cap) {
+    const std::size_t found = neighbours_.size();
+    for (std::size_t k = 0; k < cap; ++k) neighbours_[k] = neighbours_[k * found / cap];
+    neighbours_.resize(cap);
+    last_patch_scale_ = static_cast<double>(found) / static_cast<double>(cap);
+    ++r.patches_thinned;
   }
   for (std::uint32_t j : neighbours_) {
     conditions_.push_back({model_.position(j), displacement, 1.0});
@@ -192,7 +209,7 @@ void Deformer::compute_tractions(FrameReport& r) noexcept {
     c.traction = traction_at(c.nearest);
     c.traction_resultant = Vec3{};
     for (std::size_t k = neighbourhood_begin_[p]; k < neighbourhood_begin_[p + 1]; ++k) {
-      c.traction_resultant += traction_at(contact_neighbourhood_[k]) * point_area_;
+      c.traction_resultant += traction_at(contact_neighbourhood_[k]) * (point_area_ * patch_area_scale_[p]);
     }
     c.has_traction = true;
   }
@@ -280,6 +297,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   r.min_jacobian = 1.0;
   r.max_miss = 0.0;
   r.rejected = false;
+  r.patches_thinned = 0;
   r.guards = GuardCounts{};
   sources_.clear();
   forces_.clear();
@@ -328,6 +346,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
     sources_.push_back({setup.source, setup.force});
     contact_points_.push_back(c.contact);
     c.boundary_points = add_neighbourhood(c.contact, setup.force, /*record=*/true, /*widen=*/true, r);
+    patch_area_scale_[p] = last_patch_scale_;
     contact_conditions += c.boundary_points;
     ++r.collisions;
   }
@@ -477,6 +496,7 @@ void Deformer::merge_step(std::size_t count) noexcept {
   for (std::size_t p = 0; p < count; ++p) m.contacts[p] = last.contacts[p];
   m.solve = last.solve;
   m.displacement_conditions = last.displacement_conditions;
+  m.patches_thinned = last.patches_thinned;
   m.max_miss = last.max_miss;
   m.guards = carried_;
   if (!last_applied) m.guards += last.guards;

@@ -101,7 +101,8 @@ class NearestCollector {
 };
 
 // nanoflann result set for within_radius(): keeps candidates whose current position passes the
-// exact test, appending to the caller's vector (no allocation within its capacity).
+// exact test, appending to the caller's vector within its capacity (never growing it: the
+// real-time path must not allocate), and remembers when a match did not fit.
 class RadiusCollector {
  public:
   RadiusCollector(const PointModel& model, const double* q, double radius, double drift,
@@ -116,9 +117,15 @@ class RadiusCollector {
   bool full() const { return true; }
   double worstDist() const { return bound_; }
   bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {
-    if (current_squared_distance(model_, i, q_) <= radius_squared_) out_.push_back(i);
+    if (current_squared_distance(model_, i, q_) > radius_squared_) return true;
+    if (out_.size() < out_.capacity()) {
+      out_.push_back(i);
+    } else {
+      truncated_ = true;
+    }
     return true;
   }
+  bool truncated() const { return truncated_; }
 
  private:
   const PointModel& model_;
@@ -126,14 +133,8 @@ class RadiusCollector {
   double radius_squared_;
   double bound_;
   std::vector<std::uint32_t>& out_;
+  bool truncated_ = false;
 };
-
-void check_model_size(const PointModel& model, std::size_t indexed) {
-  if (model.size() != indexed) {
-    throw std::invalid_argument("point index: query model has " + std::to_string(model.size()) +
-                                " points, the index was built over " + std::to_string(indexed));
-  }
-}
 
 }  // namespace
 
@@ -179,10 +180,13 @@ void PointIndex::rebuild(const PointModel& model) {
 
 std::size_t PointIndex::size() const { return impl_ ? impl_->points.kdtree_get_point_count() : 0; }
 
+bool PointIndex::indexes(const PointModel& model) const noexcept {
+  return impl_ && model.size() == size() && model.y.size() == size() && model.z.size() == size();
+}
+
 PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q,
-                                        double drift) const {
-  check_model_size(model, size());
-  if (size() == 0) return {kNoPoint, std::numeric_limits<double>::infinity()};
+                                        double drift) const noexcept {
+  if (size() == 0 || !indexes(model)) return {kNoPoint, std::numeric_limits<double>::infinity()};
   const double query[3] = {q.x, q.y, q.z};
   NearestCollector collector(model, query, std::max(drift, 0.0));
   impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
@@ -193,17 +197,18 @@ PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q,
   return {collector.best_index(), std::sqrt(collector.best_squared())};
 }
 
-void PointIndex::within_radius(const PointModel& model, const Vec3& q, double radius,
-                               std::vector<std::uint32_t>& out, double drift) const {
+bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double radius,
+                               std::vector<std::uint32_t>& out, double drift) const noexcept {
   out.clear();
-  check_model_size(model, size());
-  if (size() == 0 || !(radius >= 0.0)) return;
+  if (!indexes(model) && !(size() == 0 && model.empty())) return false;
+  if (size() == 0 || !(radius >= 0.0)) return true;
   const double query[3] = {q.x, q.y, q.z};
   RadiusCollector collector(model, query, radius, std::max(drift, 0.0), out);
   impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
   // Tree order is spatial; callers want index order (stable, cache-friendly writes). std::sort
   // works in place, so this stays allocation-free.
   std::sort(out.begin(), out.end());
+  return !collector.truncated();
 }
 
 void PointIndex::k_nearest(const Vec3& q, std::size_t k, std::vector<std::uint32_t>& indices,

@@ -118,7 +118,7 @@ void read_heuristic(const Section& root, Scene& scene) {
 
 void read_deform(const Section& root, Scene& scene) {
   const Section s = root.table("deform", {"form", "mode", "bc_radius", "delta_s", "delta_d", "delta_r",
-                                          "precision", "carry_normals", "border_weight"});
+                                          "precision", "carry_normals", "border_weight", "max_patch_points"});
   auto& d = scene.deform;
   d.form = s.choice<deform::WeightForm>("form", {{"scale", deform::WeightForm::kScale},
                                                  {"force", deform::WeightForm::kForce}})
@@ -130,6 +130,9 @@ void read_deform(const Section& root, Scene& scene) {
   d.delta_s = s.non_negative("delta_s");
   d.delta_d = s.positive("delta_d");
   d.delta_r = s.non_negative("delta_r");
+  if (const auto cap = s.integer_in("max_patch_points", 1, static_cast<std::int64_t>(deform::kMaxPatchPointsLimit))) {
+    d.max_patch_points = static_cast<std::size_t>(*cap);
+  }
   d.precision = s.choice<deform::Precision>("precision", {{"float", deform::Precision::kFloat},
                                                           {"double", deform::Precision::kDouble}})
                     .value_or(d.precision);

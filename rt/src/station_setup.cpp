@@ -109,6 +109,7 @@ StationSetup prepare_station(const Scene& scene) {
   d.contact.min_source_distance = pick(scene.deform.delta_d, 0.25, "deform.delta_d");
   d.contact.guard_distance = pick(scene.deform.delta_r, 1.5, "deform.delta_r");
   d.contact.reference = scene.model.reference;
+  d.contact.max_patch_points = scene.deform.max_patch_points;
   st.delta_s = pick(scene.deform.delta_s, 1.0, "deform.delta_s");
   d.solver.form = scene.deform.form;
   d.field.precision = scene.deform.precision;

@@ -14,6 +14,10 @@
 namespace sculpt::deform {
 namespace {
 
+// within_radius fills its output up to the capacity and never grows it; every cloud here is
+// smaller than this.
+constexpr std::size_t kOutCapacity = 1 << 16;
+
 // --- brute-force oracle: the definition of the answer, on the model's current positions ---
 
 double squared_distance(const PointModel& m, std::size_t i, const Vec3& q) {
@@ -31,6 +35,7 @@ double oracle_nearest_distance(const PointModel& m, const Vec3& q) {
 
 std::vector<std::uint32_t> oracle_within(const PointModel& m, const Vec3& q, double radius) {
   std::vector<std::uint32_t> out;
+  out.reserve(kOutCapacity);  // within_radius never grows it
   for (std::size_t i = 0; i < m.size(); ++i) {
     if (squared_distance(m, i, q) <= radius * radius) out.push_back(static_cast<std::uint32_t>(i));
   }
@@ -128,6 +133,7 @@ TEST(PointIndex, WithinRadiusMatchesBruteForce) {
   const PointModel m = random_cloud(4000, 42);
   const PointIndex index(m);
   std::vector<std::uint32_t> out;
+  out.reserve(kOutCapacity);  // within_radius never grows it
   for (const double radius : {0.0, 0.01, 0.07, 0.25, 1.0, 5.0}) {
     for (const Vec3& q : random_queries(100, 7, 1.5)) {
       index.within_radius(m, q, radius, out);
@@ -150,6 +156,7 @@ TEST(PointIndex, RadiusIsInclusive) {
   }
   const PointIndex index(m);
   std::vector<std::uint32_t> out;
+  out.reserve(kOutCapacity);  // within_radius never grows it
   index.within_radius(m, {0, 0, 0}, 1.0, out);
   EXPECT_EQ(out.size(), 7u);
   EXPECT_EQ(out, oracle_within(m, {0, 0, 0}, 1.0));
@@ -178,6 +185,7 @@ TEST(PointIndex, DuplicatePoints) {
   EXPECT_EQ(n.index, heavy_ids.front());  // ties go to the smallest index
   EXPECT_EQ(n.distance, 0.0);
   std::vector<std::uint32_t> out;
+  out.reserve(kOutCapacity);  // within_radius never grows it
   index.within_radius(m, heavy, 0.0, out);
   EXPECT_EQ(out, heavy_ids);
   for (std::uint32_t i = 0; i < 300; i += 10) {
@@ -199,6 +207,7 @@ TEST(PointIndex, AllPointsIdentical) {
   const PointIndex index(m);
   EXPECT_EQ(index.nearest(m, {0, 0, 0}).index, 0u);
   std::vector<std::uint32_t> out;
+  out.reserve(kOutCapacity);  // within_radius never grows it
   index.within_radius(m, {1, 1, 1}, 0.0, out);
   EXPECT_EQ(out.size(), 100u);
 }
@@ -212,6 +221,7 @@ TEST(PointIndex, ExactAfterBoundedDrift) {
   std::size_t nearest_changed = 0;
   std::size_t neighbourhood_changed = 0;
   std::vector<std::uint32_t> out;
+  out.reserve(kOutCapacity);  // within_radius never grows it
   for (const double drift : {0.001, 0.03, 0.1, 0.5}) {
     m = snapshot;
     const double moved = displace(m, drift, static_cast<std::uint32_t>(drift * 1e4));
@@ -250,6 +260,7 @@ TEST(PointIndex, DriftMovesTheNearestPointAway) {
   EXPECT_EQ(n.index, b);
   EXPECT_DOUBLE_EQ(n.distance, 0.5);
   std::vector<std::uint32_t> out;
+  out.reserve(kOutCapacity);  // within_radius never grows it
   index.within_radius(m, {0, 0, 0}, 0.75, out, 1.0);
   EXPECT_EQ(out, std::vector<std::uint32_t>{b});
 }
@@ -287,11 +298,20 @@ TEST(PointIndex, WithinRadiusDoesNotReallocateWithinCapacity) {
     EXPECT_EQ(out.data(), data);
     EXPECT_EQ(out.capacity(), m.size());
   }
-  // Too little capacity: the result grows and is still complete.
+  // Too little capacity: never grown (the tick must not allocate), and said so. What fits is
+  // a subset of the true neighbourhood.
   std::vector<std::uint32_t> small;
   small.reserve(2);
-  index.within_radius(m, {0, 0, 0}, 0.5, small);
-  EXPECT_EQ(small, oracle_within(m, {0, 0, 0}, 0.5));
+  const std::vector<std::uint32_t> truth = oracle_within(m, {0, 0, 0}, 0.5);
+  ASSERT_GT(truth.size(), small.capacity());
+  EXPECT_FALSE(index.within_radius(m, {0, 0, 0}, 0.5, small));
+  EXPECT_EQ(small.capacity(), 2u);
+  EXPECT_EQ(small.size(), 2u);
+  for (std::uint32_t i : small) EXPECT_TRUE(std::binary_search(truth.begin(), truth.end(), i)) << i;
+  // With room for every match the answer is complete, and says so.
+  small.reserve(m.size());
+  EXPECT_TRUE(index.within_radius(m, {0, 0, 0}, 0.5, small));
+  EXPECT_EQ(small, truth);
 }
 
 TEST(PointIndex, KNearestMatchesBruteForce) {
@@ -331,13 +351,19 @@ TEST(PointIndex, KNearestUsesTheSnapshot) {
   EXPECT_EQ(d2[0], 0.0);
 }
 
-TEST(PointIndex, RejectsAModelOfAnotherSize) {
+TEST(PointIndex, AModelOfAnotherSizeFindsNothingAndNeverReadsPastItsArrays) {
+  // The queries run in the tick and cannot throw: a model the index was not built over is
+  // recognised (indexes()) and answered with "nothing", never an out-of-range read.
   const PointModel m = random_cloud(100, 1);
   const PointIndex index(m);
   const PointModel other = random_cloud(99, 1);
+  EXPECT_TRUE(index.indexes(m));
+  EXPECT_FALSE(index.indexes(other));
   std::vector<std::uint32_t> out;
-  EXPECT_THROW(index.nearest(other, {0, 0, 0}), std::invalid_argument);
-  EXPECT_THROW(index.within_radius(other, {0, 0, 0}, 1.0, out), std::invalid_argument);
+  out.reserve(kOutCapacity);  // within_radius never grows it
+  EXPECT_EQ(index.nearest(other, {0, 0, 0}).index, PointIndex::kNoPoint);
+  EXPECT_FALSE(index.within_radius(other, {0, 0, 0}, 1.0, out));
+  EXPECT_TRUE(out.empty());
 }
 
 TEST(PointIndex, ConcurrentReadersAgreeWithTheOracle) {
@@ -356,6 +382,7 @@ TEST(PointIndex, ConcurrentReadersAgreeWithTheOracle) {
   for (int t = 0; t < 4; ++t) {
     readers.emplace_back([&, t] {
       std::vector<std::uint32_t> out;
+      out.reserve(kOutCapacity);  // within_radius never grows it
       out.reserve(m.size());
       for (int round = 0; round < 5; ++round) {
         for (std::size_t i = 0; i < queries.size(); ++i) {

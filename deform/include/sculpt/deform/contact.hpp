@@ -17,11 +17,20 @@ enum class ContactMode {
 };
 
 /// The thesis's offsets, in model units, and how the inside is told from the outside.
+/// The largest max_patch_points accepted (a million rows per finger is already far past any
+/// frame budget).
+inline constexpr std::size_t kMaxPatchPointsLimit = std::size_t{1} << 20;
+
 struct ContactSettings {
   ContactMode mode = ContactMode::kPush;
   double bc_radius = 0.05;            ///< eps: points this close to A follow the probe
   double min_source_distance = 1e-2;  ///< Δd: a source never sits closer than this to A
   double guard_distance = 1e-1;       ///< Δr: a free finger this close constrains its surface
+  /// At most this many boundary-condition points per finger's patch: beyond it the patch is
+  /// thinned evenly (every k-th point, k = size / cap), its traction resultant scaled by the
+  /// points left out. Sizes the frame's buffers at set-up (a dense scan under a wide eps would
+  /// otherwise need rows for every point under every finger).
+  std::size_t max_patch_points = 1024;
   /// Reference point known to be outside (the scanner); used when the model has no normals.
   std::optional<Vec3> reference;
 

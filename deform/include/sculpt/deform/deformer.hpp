@@ -119,6 +119,9 @@ struct FrameReport {
   std::size_t collisions = 0;
   SolveReport solve;
   std::size_t displacement_conditions = 0;
+  /// Patches (contact or guarded finger) that held more than contact.max_patch_points and were
+  /// thinned evenly to it.
+  std::size_t patches_thinned = 0;
   std::size_t region_points = 0;  ///< points computed and moved
   std::size_t border_points = 0;
   double max_displacement = 0.0;
@@ -217,6 +220,8 @@ class Deformer {
   std::vector<std::uint32_t> neighbours_;
   std::vector<std::uint32_t> contact_neighbourhood_;  // every contact's bc points, contact by contact
   std::vector<std::size_t> neighbourhood_begin_;     // where each probe's points start in it
+  std::vector<double> patch_area_scale_;             // per probe: patch points before thinning / after
+  double last_patch_scale_ = 1.0;                    // add_neighbourhood's thinning of its last patch
 };
 
 }  // namespace sculpt::deform

@@ -54,21 +54,26 @@ class PointIndex {
     double distance;
   };
 
+  /// Whether `model` is one this index can answer for: the same point count as the snapshot.
+  /// The queries below run inside the tick and cannot throw, so their callers check this at
+  /// set-up (Deformer does) and a mismatch only ever yields "nothing found".
+  bool indexes(const PointModel& model) const noexcept;
+
   /// Exact nearest point of `model` (current positions) to q, assuming no point moved more than
   /// `drift` since the snapshot. Ties in distance go to the smallest index. Returns
-  /// {kNoPoint, +infinity} for an empty index. Does not allocate. Thread-safe (const).
-  /// Throws std::invalid_argument if model.size() != size().
-  Nearest nearest(const PointModel& model, const Vec3& q, double drift = 0.0) const;
+  /// {kNoPoint, +infinity} for an empty index, a non-finite query or a model the index does
+  /// not index (see indexes()). Does not allocate or throw. Thread-safe (const).
+  Nearest nearest(const PointModel& model, const Vec3& q, double drift = 0.0) const noexcept;
 
   /// Indices of all points whose current position is within `radius` of q (inclusive:
   /// squared distance <= radius * radius), written into `out` (cleared first, ascending index
   /// order), assuming no point moved more than `drift` since the snapshot.
-  /// Does not allocate while out.capacity() holds every match; if it does not, `out` grows
-  /// through push_back (allocating) and the result is still complete. Reserve for the largest
-  /// expected neighbourhood to keep the call allocation-free. Thread-safe (const).
-  /// Throws std::invalid_argument if model.size() != size().
-  void within_radius(const PointModel& model, const Vec3& q, double radius,
-                     std::vector<std::uint32_t>& out, double drift = 0.0) const;
+  /// Never allocates or throws: `out` is filled up to its capacity (reserve() it for the
+  /// largest neighbourhood, the model size at most) and never grown. Returns true when the
+  /// result is complete; false when a match did not fit in out.capacity() or the model is not
+  /// one this index indexes (then `out` is empty). Thread-safe (const).
+  bool within_radius(const PointModel& model, const Vec3& q, double radius,
+                     std::vector<std::uint32_t>& out, double drift = 0.0) const noexcept;
 
   /// The min(k, size()) nearest snapshot points to q, closest first, with their squared
   /// distances (snapshot positions; a point at q itself is included). For set-up work such as

@@ -81,6 +81,7 @@ struct DeformScene {
   deform::Precision precision = deform::Precision::kFloat;
   bool carry_normals = true;
   double border_weight = 1.0;  ///< weight of the region's pinned band (localised regions only)
+  std::size_t max_patch_points = 1024;  ///< boundary-condition points per finger's patch, thinned beyond
 };
 
 enum class RegionChoice {
