@@ -46,14 +46,4 @@ std::string read_file_bytes(const std::string& path) {
   return bytes;
 }
 
-void write_file_bytes(const std::string& path, std::string_view bytes) {
-  FilePtr file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw ModelFileError(path, "", errno_text("cannot create"));
-  if (std::fwrite(bytes.data(), 1, bytes.size(), file.get()) != bytes.size()) {
-    throw ModelFileError(path, "", errno_text("cannot write"));
-  }
-  // Close explicitly: a full disk often only shows up when the buffer is flushed.
-  if (std::fclose(file.release()) != 0) throw ModelFileError(path, "", errno_text("cannot write"));
-}
-
 }  // namespace sculpt::deform

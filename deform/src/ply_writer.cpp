@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "file_bytes.hpp"
 #include "number_text.hpp"
+#include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
 
 namespace sculpt::deform {
@@ -127,7 +127,7 @@ std::string write_ply_to_buffer(const PointModel& model, PlyEncoding encoding) {
 }
 
 void write_ply(const std::string& path, const PointModel& model, PlyEncoding encoding) {
-  write_file_bytes(path, write_ply_to_buffer(model, encoding));
+  write_file_atomically(path, write_ply_to_buffer(model, encoding));
 }
 
 }  // namespace sculpt::deform

@@ -2,8 +2,8 @@
 
 #include <string>
 
-#include "file_bytes.hpp"
 #include "number_text.hpp"
+#include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
 
 namespace sculpt::deform {
@@ -30,7 +30,7 @@ std::string write_xyz_to_buffer(const PointModel& model) {
 }
 
 void write_xyz(const std::string& path, const PointModel& model) {
-  write_file_bytes(path, write_xyz_to_buffer(model));
+  write_file_atomically(path, write_xyz_to_buffer(model));
 }
 
 }  // namespace sculpt::deform
