@@ -6,7 +6,8 @@
 
 namespace sculpt::deform {
 
-/// The complete contents of a regular file. Throws ModelFileError when it cannot be read.
+/// The complete contents of a regular file. Throws ModelFileError when it cannot be read or is
+/// not a regular file (a directory, FIFO or device is refused before anything is read).
 std::string read_file_bytes(const std::string& path);
 
 }  // namespace sculpt::deform

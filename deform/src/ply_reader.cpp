@@ -265,6 +265,9 @@ class BinarySource {
     }
   }
 
+  /// Bytes after the last element are allowed: some writers end binary files with a newline.
+  void end_body() const {}
+
   std::string instance_where() const { return "byte offset " + std::to_string(instance_start_); }
 
   [[noreturn]] void fail(const std::string& problem) const {
@@ -395,6 +398,20 @@ class AsciiSource {
         }
       }
       end_instance();
+    }
+  }
+
+  /// Text after the last declared element is refused, not ignored: it is a header that
+  /// declares fewer elements than the file holds, and the rest of the model would be lost
+  /// without a word. Blank lines and "comment" lines are allowed.
+  void end_body() {
+    std::string_view line;
+    while (scanner_.next_line(line)) {
+      TokenCursor cursor(line);
+      std::string_view first;
+      if (!cursor.next(first) || first == "comment") continue;
+      fail("data after the declared elements, starting with " + quoted(first) +
+           " (the header declares fewer elements than the file holds)");
     }
   }
 
@@ -553,7 +570,7 @@ void read_body(Source& source, const PlyHeader& header, std::size_t file_size,
       source.skip_element(element);
     }
   }
-  // Bytes after the last element are ignored: some writers end binary files with a newline.
+  source.end_body();
 }
 
 }  // namespace

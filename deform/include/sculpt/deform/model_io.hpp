@@ -3,7 +3,10 @@
 //
 // Every reader loads the whole file into memory and parses it from there, so the in-memory
 // *_from_buffer variants behave exactly like the file ones (the tests and fuzzers use them).
-// Readers either return a model that passes PointModel::validate() or throw ModelFileError.
+// Only regular files are read (a directory, FIFO or device is refused before any read), and
+// every count a header declares is checked against the bytes left before anything is allocated
+// for it. Readers either return a model that passes PointModel::validate() or throw
+// ModelFileError.
 
 #include <stdexcept>
 #include <string>
