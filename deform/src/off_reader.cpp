@@ -188,10 +188,9 @@ class OffParser {
     model.blue[i] = channel[2];
   }
 
+  // Positions only: a non-finite normal is a missing one, for check_normals() to handle.
   void check_finite(const PointModel& m, std::size_t i) {
-    const bool finite = std::isfinite(m.x[i]) && std::isfinite(m.y[i]) && std::isfinite(m.z[i]) &&
-                        (!m.has_normals() || (std::isfinite(m.nx[i]) && std::isfinite(m.ny[i]) &&
-                                              std::isfinite(m.nz[i])));
+    const bool finite = std::isfinite(m.x[i]) && std::isfinite(m.y[i]) && std::isfinite(m.z[i]);
     if (!finite) fail("non-finite coordinate in vertex " + std::to_string(i));
     const std::string range = coordinate_range_problem(m.x[i], m.y[i], m.z[i], "vertex", i);
     if (!range.empty()) fail(range);

@@ -135,16 +135,13 @@ void store(PointModel& m, Target target, PlyType type, std::size_t i, double val
   }
 }
 
-// The name of the first non-finite position or normal component of vertex i, or nullptr.
+// The name of the first non-finite position component of vertex i, or nullptr. Normals are
+// not checked here: a non-finite normal is a missing one (scanners write NaN where they could
+// not estimate it), which check_normals() re-estimates or refuses as the caller asks.
 const char* non_finite_component(const PointModel& m, std::size_t i) {
   if (!std::isfinite(m.x[i])) return "x";
   if (!std::isfinite(m.y[i])) return "y";
   if (!std::isfinite(m.z[i])) return "z";
-  if (m.has_normals()) {
-    if (!std::isfinite(m.nx[i])) return "nx";
-    if (!std::isfinite(m.ny[i])) return "ny";
-    if (!std::isfinite(m.nz[i])) return "nz";
-  }
   return nullptr;
 }
 

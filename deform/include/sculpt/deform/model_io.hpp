@@ -6,7 +6,8 @@
 // Only regular files are read (a directory, FIFO or device is refused before any read), and
 // every count a header declares is checked against the bytes left before anything is allocated
 // for it. Readers either return a model that passes PointModel::validate() or throw
-// ModelFileError.
+// ModelFileError. Normals come as the file has them (zero, non-finite or of any length):
+// check_normals() (normal_check.hpp) is what makes them unit normals or refuses them.
 //
 // Every writer builds the whole file in memory and hands it to write_file_atomically(), so a
 // failed write leaves the old file in place. Faces are written by PLY and OFF.
