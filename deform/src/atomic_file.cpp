@@ -49,7 +49,7 @@ fs::path resolve_target(const std::string& path) {
 // another attempt.
 std::string temporary_name(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  std::string name = target.filename().string().substr(0, kMaxNameInTemp);
+  const std::string name = target.filename().string().substr(0, kMaxNameInTemp);
   return "." + name + ".tmp-" + std::to_string(::getpid()) + "-" +
          std::to_string(counter.fetch_add(1));
 }
