@@ -8,12 +8,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 
 #include "check/case_run.hpp"
 #include "check/check_cases.hpp"
 #include "commands.hpp"
+#include "sculpt/deform/atomic_file.hpp"
+#include "sculpt/deform/model_io.hpp"
 
 namespace sculpt::tools {
 namespace {
@@ -168,10 +169,10 @@ class CheckCommand final : public Command {
       if (json_path_ == "-") {
         std::cout << doc.dump(2) << "\n";
       } else {
-        std::ofstream file(json_path_);
-        file << doc.dump(2) << "\n";
-        if (!file) {
-          std::cerr << "sculpt check: error: cannot write " << json_path_ << "\n";
+        try {
+          deform::write_file_atomically(json_path_, doc.dump(2) + "\n");
+        } catch (const deform::ModelFileError& e) {
+          std::cerr << "sculpt check: error: " << e.what() << "\n";
           return kExitFailure;
         }
       }

@@ -5,11 +5,12 @@
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <stdexcept>
 
+#include "bad_normals_option.hpp"
 #include "commands.hpp"
+#include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
@@ -61,7 +62,7 @@ class DeformCommand final : public Command {
   explicit DeformCommand(CLI::App& app) {
     sub_ = app.add_subcommand("deform", "Apply one collision frame of fingertip contacts to a model file");
     sub_->add_option("--model", model_path_, "Input model (.ply, .off or .xyz)")->required();
-    sub_->add_option("--out", out_path_, "Write the deformed model here (.ply or .xyz)");
+    sub_->add_option("--out", out_path_, "Write the deformed model here (.ply, .off or .xyz; faces kept in .ply and .off)");
     sub_->add_option("--contact", contacts_,
                      "X0,Y0,Z0:X1,Y1,Z1 probe before (outside) and after (pressed in); one per finger")
         ->required()->take_all();
@@ -83,6 +84,7 @@ class DeformCommand final : public Command {
     sub_->add_option("--encoding", encoding_, "ascii | binary | binary_big_endian for a .ply output")
         ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))->default_val("binary");
     sub_->add_option("--json", json_path_, "Also write the report as JSON here");
+    bad_normals_.add_to(*sub_);
   }
 
   bool chosen() const override { return sub_->parsed(); }
@@ -152,6 +154,7 @@ class DeformCommand final : public Command {
                    const std::optional<Vec3>& reference) {
     const auto load_start = Clock::now();
     deform::PointModel model = deform::read_model(model_path_);
+    const deform::NormalReport normal_report = bad_normals_.check(model, model_path_);
     const double load_ms = ms_since(load_start);
     // The length scale first: without one (all points coincide) nothing below means anything,
     // and the fault is the file's, so it is reported as the file's.
@@ -197,12 +200,10 @@ class DeformCommand final : public Command {
 
     nlohmann::json json = make_json(model, settings, normals_source, spacing, report, deformer.frames().size());
     json["time_ms"] = {{"load", load_ms}, {"setup", setup_ms}, {"frame", frame_ms}, {"write", write_ms}};
+    json["normals_checked"] = bad_normals_.to_json(normal_report);
+    json["faces"] = model.triangles.size() / 3;
     print_summary(model, settings, normals_source, spacing, report, frame_ms);
-    if (!json_path_.empty()) {
-      std::ofstream file(json_path_);
-      file << json.dump(2) << "\n";
-      if (!file) throw std::runtime_error("cannot write " + json_path_);
-    }
+    if (!json_path_.empty()) deform::write_file_atomically(json_path_, json.dump(2) + "\n");
     return kExitOk;
   }
 
@@ -375,6 +376,7 @@ class DeformCommand final : public Command {
   double eps_reg_ = 0.0, bc_radius_ = 0.0, delta_d_ = 0.0, delta_r_ = 0.0, region_radius_ = 0.0;
   double border_weight_ = 1.0;
   bool use_double_ = false;
+  BadNormalsOption bad_normals_;
   CLI::Option *eps_reg_option_ = nullptr, *bc_option_ = nullptr, *dd_option_ = nullptr, *dr_option_ = nullptr,
               *region_option_ = nullptr, *reference_option_ = nullptr;
 };

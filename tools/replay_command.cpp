@@ -9,10 +9,11 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 
+#include "bad_normals_option.hpp"
 #include "commands.hpp"
+#include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/normals.hpp"
 #if SCULPT_HAS_LCM
@@ -102,6 +103,7 @@ class ReplayCommand final : public Command {
         ->check(CLI::IsMember({"transfer", "rerun", "both"}));
     sub_->add_option("--out", out_path_, "Write the resulting model here");
     sub_->add_option("--json", json_path_, "Write the report here");
+    bad_normals_.add_to(*sub_);
   }
   bool chosen() const override { return sub_->parsed(); }
 
@@ -134,10 +136,13 @@ class ReplayCommand final : public Command {
     const SessionLog log = read_session(log_path_);
     for (const std::string& s : log.skipped) std::fprintf(stderr, "skipped  %s\n", s.c_str());
     deform::PointModel base = deform::read_model(model_path_);
+    const deform::NormalReport normal_report = bad_normals_.check(base, model_path_);
     nlohmann::json json = {{"log", log_path_},
                            {"model", model_path_},
                            {"mode", mode_},
                            {"points", base.size()},
+                           {"faces", base.triangles.size() / 3},
+                           {"normals_checked", bad_normals_.to_json(normal_report)},
                            {"events", log.events},
                            {"collision_events", log.collisions.size()},
                            {"glove_samples", log.samples.size()},
@@ -169,11 +174,7 @@ class ReplayCommand final : public Command {
       std::printf("wrote    %s\n", out_path_.c_str());
     }
     json["time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!json_path_.empty()) {
-      std::ofstream file(json_path_);
-      file << json.dump(2) << "\n";
-      if (!file) throw std::runtime_error("cannot write " + json_path_);
-    }
+    if (!json_path_.empty()) deform::write_file_atomically(json_path_, json.dump(2) + "\n");
     if (!log.skipped.empty()) std::printf("skipped  %zu unreadable events (listed above)\n", log.skipped.size());
     return kExitOk;
   }
@@ -183,6 +184,7 @@ class ReplayCommand final : public Command {
   deform::PointModel rerun_session(const SessionLog& log, nlohmann::json& json) {
     rt::Scene scene = rt::load_scene(scene_path_);
     scene.model.path = model_path_;
+    if (bad_normals_.given()) scene.model.bad_normals = bad_normals_.policy();
     scene.heuristic.reduced_ratio = 1.0;  // the re-run is on the model given, whole
     rt::StationSetup setup = rt::prepare_station(scene);
     auto source = std::make_unique<rt::ReplayGloveSource>(log.samples);
@@ -223,6 +225,7 @@ class ReplayCommand final : public Command {
 
   CLI::App* sub_ = nullptr;
   std::string log_path_, model_path_, scene_path_, mode_, out_path_, json_path_;
+  BadNormalsOption bad_normals_;
 };
 
 }  // namespace

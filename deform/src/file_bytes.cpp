@@ -1,59 +1,76 @@
 #include "file_bytes.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <memory>
-#include <system_error>
 
 #include "sculpt/deform/model_io.hpp"
 
 namespace sculpt::deform {
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
 std::string errno_text(const char* what) {
   return std::string(what) + " (" + std::strerror(errno) + ")";
 }
 
+// What a path is when it is not a regular file, in the words `ls -l` users know.
+const char* kind_of(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+// Closes the descriptor on every way out of read_file_bytes.
+class Descriptor {
+ public:
+  explicit Descriptor(int fd) : fd_(fd) {}
+  Descriptor(const Descriptor&) = delete;
+  Descriptor& operator=(const Descriptor&) = delete;
+  ~Descriptor() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  int get() const { return fd_; }
+
+ private:
+  int fd_;
+};
+
 }  // namespace
 
 std::string read_file_bytes(const std::string& path) {
-  // A directory opens fine with fopen on Linux and only fails on read; say what it is instead.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw ModelFileError(path, "", "cannot read: is a directory");
+  // Only regular files are models. /dev/zero never ends and a FIFO blocks until a writer
+  // comes, so both must be refused before the first read. O_NONBLOCK keeps the open itself
+  // from waiting for a FIFO's writer; fstat on the open descriptor then says what the path
+  // is without the race a stat before the open would leave.
+  const Descriptor file(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
+  if (file.get() < 0) throw ModelFileError(path, "", errno_text("cannot open"));
+  struct stat info {};
+  if (::fstat(file.get(), &info) != 0) throw ModelFileError(path, "", errno_text("cannot read"));
+  if (!S_ISREG(info.st_mode)) {
+    throw ModelFileError(path, "", std::string("cannot read: ") + kind_of(info.st_mode) +
+                                       ", not a regular file");
   }
-  FilePtr file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw ModelFileError(path, "", errno_text("cannot open"));
   std::string bytes;
-  // Grow by reading rather than trusting a size query, so pipes and special files work too;
-  // for regular files the first reserve makes this a single read.
-  const auto size = std::filesystem::file_size(path, ec);
-  if (!ec) bytes.reserve(static_cast<std::size_t>(size));
+  bytes.reserve(static_cast<std::size_t>(info.st_size));
+  // Read to the end rather than exactly st_size bytes: a file that grows or shrinks while it is
+  // read is then read as it ends up, never past its end.
   char chunk[1 << 16];
   for (;;) {
-    const std::size_t got = std::fread(chunk, 1, sizeof chunk, file.get());
-    bytes.append(chunk, got);
-    if (got < sizeof chunk) break;
+    const ssize_t got = ::read(file.get(), chunk, sizeof chunk);
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw ModelFileError(path, "", errno_text("cannot read"));
+    }
+    if (got == 0) break;
+    bytes.append(chunk, static_cast<std::size_t>(got));
   }
-  if (std::ferror(file.get())) throw ModelFileError(path, "", errno_text("cannot read"));
   return bytes;
-}
-
-void write_file_bytes(const std::string& path, std::string_view bytes) {
-  FilePtr file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw ModelFileError(path, "", errno_text("cannot create"));
-  if (std::fwrite(bytes.data(), 1, bytes.size(), file.get()) != bytes.size()) {
-    throw ModelFileError(path, "", errno_text("cannot write"));
-  }
-  // Close explicitly: a full disk often only shows up when the buffer is flushed.
-  if (std::fclose(file.release()) != 0) throw ModelFileError(path, "", errno_text("cannot write"));
 }
 
 }  // namespace sculpt::deform

@@ -1,15 +1,13 @@
 #pragma once
-// Whole-file reads and writes for the model readers and writers, reporting failures as
-// ModelFileError so callers see one exception type for everything file-related.
+// Whole-file reads for the model readers, reporting failures as ModelFileError so callers see
+// one exception type for everything file-related. Writes go through atomic_file.hpp.
 
 #include <string>
-#include <string_view>
 
 namespace sculpt::deform {
 
-/// The complete contents of a regular file. Throws ModelFileError when it cannot be read.
+/// The complete contents of a regular file. Throws ModelFileError when it cannot be read or is
+/// not a regular file (a directory, FIFO or device is refused before anything is read).
 std::string read_file_bytes(const std::string& path);
-/// Replaces the file's contents with `bytes`. Throws ModelFileError when it cannot be written.
-void write_file_bytes(const std::string& path, std::string_view bytes);
 
 }  // namespace sculpt::deform

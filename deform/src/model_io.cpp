@@ -46,11 +46,13 @@ void write_model(const std::string& path, const PointModel& model, PlyEncoding e
   const std::string ext = lower_extension(path);
   if (ext == ".ply") {
     write_ply(path, model, encoding);
+  } else if (ext == ".off") {
+    write_off(path, model);
   } else if (ext == ".xyz") {
     write_xyz(path, model);
   } else {
     throw ModelFileError(
-        path, "", "cannot write models with " + shown_extension(path) + " (use .ply or .xyz)");
+        path, "", "cannot write models with " + shown_extension(path) + " (use .ply, .off or .xyz)");
   }
 }
 

@@ -223,40 +223,63 @@ void compute_normals_from_faces(PointModel& model) {
   }
 
   std::vector<std::uint32_t> faceless;
-  PointModel with_faces;  // positions of the points that did get a face normal
-  std::vector<std::uint32_t> with_faces_id;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 unit = normalized(normals[i]);
-    if (squared_norm(unit) == 0.0) {
-      faceless.push_back(static_cast<std::uint32_t>(i));
-    } else {
-      normals[i] = unit;
-      with_faces.push_back(model.position(i));
-      with_faces_id.push_back(static_cast<std::uint32_t>(i));
-    }
+    if (squared_norm(unit) == 0.0) faceless.push_back(static_cast<std::uint32_t>(i));
+    normals[i] = unit;
   }
-  if (with_faces.empty()) {
+  if (faceless.size() == n) {
     estimate_normals(model);
     return;
   }
-  if (!faceless.empty()) {
-    // A faceless point (a stray vertex, an unmeshed patch) takes its plane from all nearby
-    // points and its side from the closest point whose side the mesh has already settled.
-    const PointIndex all(model);
-    const PointIndex faced(with_faces);
-    const std::size_t k = std::min(neighbourhood_size(NormalEstimation{}), n);
-    std::vector<std::uint32_t> ids;
-    std::vector<double> squared;
-    for (const std::uint32_t i : faceless) {
-      const Vec3 p = model.position(i);
-      all.k_nearest(p, k, ids, squared);
-      Vec3 normal = pca_normal(model, ids.data(), ids.size(), p);
-      const Vec3& guide = normals[with_faces_id[faced.nearest(with_faces, p).index]];
-      if (dot(normal, guide) < 0.0) normal = -normal;
-      normals[i] = normal;
-    }
-  }
   write_normals(model, normals);
+  // A faceless point (a stray vertex, an unmeshed patch) takes its plane from all nearby
+  // points and its side from the closest point whose side the mesh has already settled.
+  reestimate_normals(model, faceless);
+}
+
+void reestimate_normals(PointModel& model, const std::vector<std::uint32_t>& points) {
+  if (points.empty()) return;
+  if (!model.has_normals()) {
+    throw std::invalid_argument("reestimate_normals: the model has no normals to keep");
+  }
+  const std::size_t n = model.size();
+  std::vector<std::uint8_t> listed(n, 0);
+  std::size_t unique = 0;
+  for (const std::uint32_t i : points) {
+    if (i >= n) {
+      throw std::invalid_argument("reestimate_normals: point " + std::to_string(i) + " of " +
+                                  std::to_string(n));
+    }
+    unique += listed[i] == 0 ? 1 : 0;
+    listed[i] = 1;
+  }
+  if (unique == n) {
+    ensure_normals(model, /*force=*/true);
+    return;
+  }
+  PointModel settled;  // positions of the points whose normals stay
+  std::vector<std::uint32_t> settled_id;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (listed[i]) continue;
+    settled.push_back(model.position(i));
+    settled_id.push_back(static_cast<std::uint32_t>(i));
+  }
+  const PointIndex all(model);
+  const PointIndex settled_index(settled);
+  const std::size_t k = std::min(neighbourhood_size(NormalEstimation{}), n);
+  std::vector<std::uint32_t> ids;
+  std::vector<double> squared;
+  // Only settled normals guide, and they are never written here, so the order does not matter.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!listed[i]) continue;
+    const Vec3 p = model.position(i);
+    all.k_nearest(p, k, ids, squared);
+    Vec3 normal = pca_normal(model, ids.data(), ids.size(), p);
+    const Vec3 guide = model.normal(settled_id[settled_index.nearest(settled, p).index]);
+    if (dot(normal, guide) < 0.0) normal = -normal;
+    model.set_normal(i, normal);
+  }
 }
 
 void ensure_normals(PointModel& model, bool force) {

@@ -46,6 +46,7 @@ class OffParser {
       }
       counts = TokenCursor(line);
     }
+    const std::size_t header_line = scanner_.line_number();
     const std::uint64_t vertex_count = parse_count(counts, "vertex");
     const std::uint64_t face_count = parse_count(counts, "face");
     std::string_view edges;
@@ -63,8 +64,15 @@ class OffParser {
 
     PointModel model;
     read_vertices(variant, static_cast<std::size_t>(vertex_count), model);
+    // Each face line has at least its corner count and a line end ("0\n"; the last line may
+    // lack it): a face count the rest of the file cannot hold is refused before any reserve.
+    if (face_count > (scanner_.remaining() + 1) / 2) {
+      fail_at(header_line, "face count " + std::to_string(face_count) +
+                               " is more than the rest of the file can hold");
+    }
     read_faces(face_count, model);
-    return model;  // anything after the last face (edges, trailing text) is ignored
+    refuse_trailing_data();
+    return model;
   }
 
  private:
@@ -75,6 +83,18 @@ class OffParser {
       if (!is_blank_line(line)) return true;
     }
     return false;
+  }
+
+  // Edges are counted in the header but never listed, so a content line after the last face
+  // means the counts are short of what the file holds: refused rather than dropped unseen.
+  void refuse_trailing_data() {
+    std::string_view line;
+    if (!next_content_line(line)) return;
+    TokenCursor tokens(line);
+    std::string_view first;
+    tokens.next(first);
+    fail("data after the declared vertices and faces, starting with " + quoted(first) +
+         " (the header's counts are fewer than the file holds)");
   }
 
   OffVariant parse_keyword(std::string_view keyword) {
@@ -168,10 +188,9 @@ class OffParser {
     model.blue[i] = channel[2];
   }
 
+  // Positions only: a non-finite normal is a missing one, for check_normals() to handle.
   void check_finite(const PointModel& m, std::size_t i) {
-    const bool finite = std::isfinite(m.x[i]) && std::isfinite(m.y[i]) && std::isfinite(m.z[i]) &&
-                        (!m.has_normals() || (std::isfinite(m.nx[i]) && std::isfinite(m.ny[i]) &&
-                                              std::isfinite(m.nz[i])));
+    const bool finite = std::isfinite(m.x[i]) && std::isfinite(m.y[i]) && std::isfinite(m.z[i]);
     if (!finite) fail("non-finite coordinate in vertex " + std::to_string(i));
     const std::string range = coordinate_range_problem(m.x[i], m.y[i], m.z[i], "vertex", i);
     if (!range.empty()) fail(range);

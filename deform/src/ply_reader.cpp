@@ -135,16 +135,13 @@ void store(PointModel& m, Target target, PlyType type, std::size_t i, double val
   }
 }
 
-// The name of the first non-finite position or normal component of vertex i, or nullptr.
+// The name of the first non-finite position component of vertex i, or nullptr. Normals are
+// not checked here: a non-finite normal is a missing one (scanners write NaN where they could
+// not estimate it), which check_normals() re-estimates or refuses as the caller asks.
 const char* non_finite_component(const PointModel& m, std::size_t i) {
   if (!std::isfinite(m.x[i])) return "x";
   if (!std::isfinite(m.y[i])) return "y";
   if (!std::isfinite(m.z[i])) return "z";
-  if (m.has_normals()) {
-    if (!std::isfinite(m.nx[i])) return "nx";
-    if (!std::isfinite(m.ny[i])) return "ny";
-    if (!std::isfinite(m.nz[i])) return "nz";
-  }
   return nullptr;
 }
 
@@ -264,6 +261,9 @@ class BinarySource {
       }
     }
   }
+
+  /// Bytes after the last element are allowed: some writers end binary files with a newline.
+  void end_body() const {}
 
   std::string instance_where() const { return "byte offset " + std::to_string(instance_start_); }
 
@@ -395,6 +395,20 @@ class AsciiSource {
         }
       }
       end_instance();
+    }
+  }
+
+  /// Text after the last declared element is refused, not ignored: it is a header that
+  /// declares fewer elements than the file holds, and the rest of the model would be lost
+  /// without a word. Blank lines and "comment" lines are allowed.
+  void end_body() {
+    std::string_view line;
+    while (scanner_.next_line(line)) {
+      TokenCursor cursor(line);
+      std::string_view first;
+      if (!cursor.next(first) || first == "comment") continue;
+      fail("data after the declared elements, starting with " + quoted(first) +
+           " (the header declares fewer elements than the file holds)");
     }
   }
 
@@ -553,7 +567,7 @@ void read_body(Source& source, const PlyHeader& header, std::size_t file_size,
       source.skip_element(element);
     }
   }
-  // Bytes after the last element are ignored: some writers end binary files with a newline.
+  source.end_body();
 }
 
 }  // namespace

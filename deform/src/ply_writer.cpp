@@ -1,16 +1,18 @@
-// PLY writing: positions and normals as float, colours as uchar, in the plain header layout
-// MeshLab, CloudCompare and every other PLY reader understand.
+// PLY writing: positions and normals as float, colours as uchar, faces as uchar-counted int
+// lists, in the plain header layout MeshLab, CloudCompare and every other PLY reader understand.
 
 #include <bit>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
-#include "file_bytes.hpp"
 #include "number_text.hpp"
+#include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
+#include "vertex_text.hpp"
+#include "writable_model.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -24,14 +26,13 @@ const char* format_name(PlyEncoding encoding) {
   return "ascii";
 }
 
-// The reader refuses non-finite normals, so writing them would make a file we cannot read.
-void check_writable(const PointModel& model) {
-  model.validate();
-  for (std::size_t i = 0; i < model.nx.size(); ++i) {
-    if (!std::isfinite(model.nx[i]) || !std::isfinite(model.ny[i]) || !std::isfinite(model.nz[i])) {
-      throw std::invalid_argument("write_ply: point " + std::to_string(i) +
-                                  " has a non-finite normal");
-    }
+// Face indices are written as PLY "int", so every point index must fit one.
+void check_ply_writable(const PointModel& model) {
+  check_writable(model, "write_ply");
+  if (!model.triangles.empty() &&
+      model.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
+    throw std::invalid_argument("write_ply: " + std::to_string(model.size()) +
+                                " points are more than a PLY int face index can address");
   }
 }
 
@@ -44,23 +45,18 @@ std::string header_text(const PointModel& model, PlyEncoding encoding) {
   if (model.has_normals()) h += "property float nx\nproperty float ny\nproperty float nz\n";
   if (model.has_colors()) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (model.has_alpha()) h += "property uchar alpha\n";
+  if (!model.triangles.empty()) {
+    h += "element face ";
+    append_uint(h, model.triangles.size() / 3);
+    h += "\nproperty list uchar int vertex_indices\n";
+  }
   h += "end_header\n";
   return h;
 }
 
 void write_ascii_body(const PointModel& m, std::string& out) {
   for (std::size_t i = 0; i < m.size(); ++i) {
-    append_float(out, m.x[i]);
-    out += ' ';
-    append_float(out, m.y[i]);
-    out += ' ';
-    append_float(out, m.z[i]);
-    if (m.has_normals()) {
-      for (float v : {m.nx[i], m.ny[i], m.nz[i]}) {
-        out += ' ';
-        append_float(out, v);
-      }
-    }
+    append_vertex_text(out, m, i);
     if (m.has_colors()) {
       for (std::uint8_t v : {m.red[i], m.green[i], m.blue[i]}) {
         out += ' ';
@@ -73,11 +69,11 @@ void write_ascii_body(const PointModel& m, std::string& out) {
     }
     out += '\n';
   }
+  append_triangle_lines(out, m);
 }
 
-// Appends a float's four bytes in the file's byte order.
-void put_float(char*& p, float value, bool swap) {
-  std::uint32_t bits = std::bit_cast<std::uint32_t>(value);
+// Appends a 32-bit value's four bytes in the file's byte order.
+void put_bits(char*& p, std::uint32_t bits, bool swap) {
   if (swap) {
     bits = (bits >> 24) | ((bits >> 8) & 0xff00U) | ((bits << 8) & 0xff0000U) | (bits << 24);
   }
@@ -85,11 +81,16 @@ void put_float(char*& p, float value, bool swap) {
   p += 4;
 }
 
+void put_float(char*& p, float value, bool swap) {
+  put_bits(p, std::bit_cast<std::uint32_t>(value), swap);
+}
+
 void write_binary_body(const PointModel& m, bool swap, std::string& out) {
   const std::size_t stride =
       12 + (m.has_normals() ? 12 : 0) + (m.has_colors() ? 3 : 0) + (m.has_alpha() ? 1 : 0);
+  constexpr std::size_t kFaceSize = 1 + 3 * 4;  // uchar count 3, three int indices
   const std::size_t start = out.size();
-  out.resize(start + stride * m.size());
+  out.resize(start + stride * m.size() + kFaceSize * (m.triangles.size() / 3));
   char* p = out.data() + start;
   for (std::size_t i = 0; i < m.size(); ++i) {
     put_float(p, m.x[i], swap);
@@ -107,16 +108,21 @@ void write_binary_body(const PointModel& m, bool swap, std::string& out) {
     }
     if (m.has_alpha()) *p++ = static_cast<char>(m.alpha[i]);
   }
+  // check_ply_writable made sure every index fits an int, so its bits are the int's bits.
+  for (std::size_t t = 0; t < m.triangles.size(); t += 3) {
+    *p++ = 3;
+    for (std::size_t k = 0; k < 3; ++k) put_bits(p, m.triangles[t + k], swap);
+  }
 }
 
 }  // namespace
 
 std::string write_ply_to_buffer(const PointModel& model, PlyEncoding encoding) {
-  check_writable(model);
+  check_ply_writable(model);
   std::string out = header_text(model, encoding);
   if (encoding == PlyEncoding::kAscii) {
     // A generous guess at the line length avoids most regrowth.
-    out.reserve(out.size() + model.size() * 64);
+    out.reserve(out.size() + model.size() * 64 + model.triangles.size() * 8);
     write_ascii_body(model, out);
   } else {
     const bool file_little = encoding == PlyEncoding::kBinaryLittleEndian;
@@ -127,7 +133,7 @@ std::string write_ply_to_buffer(const PointModel& model, PlyEncoding encoding) {
 }
 
 void write_ply(const std::string& path, const PointModel& model, PlyEncoding encoding) {
-  write_file_bytes(path, write_ply_to_buffer(model, encoding));
+  write_file_atomically(path, write_ply_to_buffer(model, encoding));
 }
 
 }  // namespace sculpt::deform

@@ -55,7 +55,8 @@ PointModel read_xyz_from_buffer(std::string_view text, const std::string& name_f
         fail(quoted(tokens[k]) + " is not a number (" + kColumnNames[k] + " of point " +
              std::to_string(i) + ")");
       }
-      if (!std::isfinite(v[k])) {
+      // A non-finite normal is a missing one, for check_normals() to handle.
+      if (k < 3 && !std::isfinite(v[k])) {
         fail(std::string("non-finite '") + kColumnNames[k] + "' in point " + std::to_string(i));
       }
     }

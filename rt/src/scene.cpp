@@ -43,7 +43,7 @@ std::optional<std::string> path_value(const Section& s, std::string_view key,
 }
 
 void read_model(const Section& root, const std::string& base_dir, Scene& scene) {
-  const Section s = root.table("model", {"path", "reference", "normals"});
+  const Section s = root.table("model", {"path", "reference", "normals", "bad_normals"});
   s.require("path");
   scene.model.path = *path_value(s, "path", base_dir);
   const std::string ext = lower_extension(scene.model.path);
@@ -64,6 +64,13 @@ void read_model(const Section& root, const std::string& base_dir, Scene& scene) 
   if (!scene.model.reference && scene.model.normals == NormalsSource::kNone) {
     s.fail("normals", "'none' needs model.reference, a point outside the model, to tell inside from outside");
   }
+  const auto bad_normals = s.choice<deform::NormalPolicy>(
+      "bad_normals", {{"reestimate", deform::NormalPolicy::kReestimate}, {"refuse", deform::NormalPolicy::kRefuse}});
+  // The other normals choices replace the file's normals, so a policy for them would go unused.
+  if (bad_normals && scene.model.normals != NormalsSource::kAuto) {
+    s.fail("bad_normals", "only used with model.normals = 'auto' (the other choices replace the file's normals)");
+  }
+  scene.model.bad_normals = bad_normals.value_or(deform::NormalPolicy::kReestimate);
 }
 
 void read_material_and_kernel(const Section& root, Scene& scene) {

@@ -5,6 +5,7 @@
 
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
+#include "sculpt/deform/normal_check.hpp"
 #include "sculpt/deform/normals.hpp"
 #include "sculpt/deform/settings_range.hpp"
 #include "sculpt/hal/backend_factory.hpp"
@@ -39,7 +40,13 @@ void load_normals(StationSetup& s, const Scene& scene) {
       s.normals_source = "estimated (PCA)";
       return;
     case NormalsSource::kAuto:
-      s.normals_source = m.has_normals() ? "file" : (m.triangles.empty() ? "estimated (PCA)" : "from faces");
+      if (m.has_normals()) {
+        s.normal_report = deform::check_normals(m, scene.model.bad_normals, scene.model.path);
+        const std::string changed = deform::describe(s.normal_report);
+        s.normals_source = changed.empty() ? "file" : "file (" + changed + ")";
+        return;
+      }
+      s.normals_source = m.triangles.empty() ? "estimated (PCA)" : "from faces";
       deform::ensure_normals(m);
       return;
   }

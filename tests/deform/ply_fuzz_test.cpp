@@ -17,6 +17,7 @@
 #include <typeinfo>
 
 #include "sculpt/deform/model_io.hpp"
+#include "sculpt/deform/normal_check.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -129,9 +130,13 @@ void read_one(const std::string& bytes, Outcome& outcome, const std::string& con
   try {
     const PointModel m = read_ply_from_buffer(bytes, "fuzz.ply");
     m.validate();  // throws std::invalid_argument if inconsistent, counted below
-    for (std::size_t i = 0; i < m.nx.size(); ++i) {
-      if (!std::isfinite(m.nx[i]) || !std::isfinite(m.ny[i]) || !std::isfinite(m.nz[i])) {
-        throw std::logic_error("accepted a non-finite normal");
+    // Normals come as the file has them; check_normals must turn whatever the corruption
+    // left (NaN, zero, any length) into unit normals.
+    PointModel checked = m;
+    check_normals(checked, NormalPolicy::kReestimate, "fuzz.ply");
+    for (std::size_t i = 0; i < checked.nx.size(); ++i) {
+      if (!(std::abs(norm(checked.normal(i)) - 1.0) <= kUnitNormalTolerance)) {
+        throw std::logic_error("check_normals left a normal that is not unit");
       }
     }
     ++outcome.accepted;

@@ -233,12 +233,13 @@ TEST_P(PlyRoundTrip, ThroughAFile) {
   std::filesystem::remove(path);
 }
 
-TEST_P(PlyRoundTrip, FacesAreNotWritten) {
-  PointModel model = awkward_model(4, false, false, false, 5);
+TEST_P(PlyRoundTrip, FacesAreWrittenBack) {
+  PointModel model = awkward_model(4, true, true, false, 5);
   model.triangles = {0, 1, 2, 0, 2, 3};
   const std::string bytes = write_ply_to_buffer(model, GetParam());
-  EXPECT_EQ(bytes.find("element face"), std::string::npos);
-  EXPECT_TRUE(read_ply_from_buffer(bytes, "m.ply").triangles.empty());
+  EXPECT_NE(bytes.find("element face 2\nproperty list uchar int vertex_indices\nend_header\n"),
+            std::string::npos);
+  expect_same_model(model, read_ply_from_buffer(bytes, "m.ply"));
 }
 
 INSTANTIATE_TEST_SUITE_P(PlyAllEncodings, PlyRoundTrip, ::testing::ValuesIn(kAllEncodings),
@@ -610,7 +611,7 @@ TEST(ModelIo, UnknownExtensionsAreRefusedWithTheirName) {
     EXPECT_TRUE(e.where().empty());
   }
   EXPECT_THROW(read_model("no_extension"), ModelFileError);
-  EXPECT_THROW(write_model(temp_path("out.off"), awkward_model(2, false, false, false, 11)),
+  EXPECT_THROW(write_model(temp_path("out.obj"), awkward_model(2, false, false, false, 11)),
                ModelFileError);
 }
 

@@ -190,6 +190,27 @@ TEST(Transfer, OntoADenserModelEqualsTheKelvinSuperposition) {
   }
 }
 
+// The thesis's reduced model set with a mesh: the subsample has no faces (its indices would
+// not survive), and the full model the log is transferred to keeps its own, untouched.
+TEST(Transfer, TheFullModelKeepsItsFacesAndTheReducedSetHasNone) {
+  deform::PointModel full = deform::make_sphere(6000);
+  for (std::uint32_t i = 0; i + 2 < full.size(); i += 3) full.triangles.insert(full.triangles.end(), {i, i + 1, i + 2});
+  const std::vector<std::uint32_t> faces = full.triangles;
+  deform::PointModel reduced = reduced_model(full, 0.2);
+  EXPECT_TRUE(reduced.triangles.empty());
+  const deform::DeformSettings s = sphere_settings(true);
+  deform::Deformer deformer(reduced, s);
+  const auto& report = deformer.deform(press({direction(0.7, 1.0)}, 1.03, 0.93));
+  ASSERT_EQ(report.collisions, 1u);
+  std::vector<CollisionRecord> log;
+  ASSERT_EQ(append_frame_records(report, s, 1, 0, log), 1u);
+  const deform::PointModel before = full;
+  transfer(full, log);
+  EXPECT_NE(full.x, before.x);
+  EXPECT_EQ(full.triangles, faces);
+  EXPECT_NO_THROW(full.validate());
+}
+
 // Nearest-neighbour distance of every point of m, from a k-d tree.
 std::vector<double> nearest_neighbour_distances(const deform::PointModel& m) {
   deform::PointIndex index(m);

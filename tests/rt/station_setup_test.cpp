@@ -3,10 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "sculpt/deform/generators.hpp"
+#include "sculpt/deform/model_io.hpp"
 #include "sculpt/rt/station_setup.hpp"
 
 namespace sculpt::rt {
@@ -78,6 +81,29 @@ TEST(StationSetup, NanAndHugeMaterialsAreRefusedWhenTheSceneIsRead) {
     }
   }
   EXPECT_NO_THROW(sphere_scene("[material]\nG = 1e15\n"));
+}
+
+// The scene's model goes through check_normals: zero normals re-estimated (or refused, as the
+// scene says), long ones normalised, and the counts shown where the model's normals are named.
+TEST(StationSetup, TheFilesBadNormalsAreRepairedOrRefusedAsTheSceneSays) {
+  deform::PointModel sphere = deform::make_sphere(3203);
+  for (std::size_t i = 0; i < sphere.size(); ++i) sphere.set_normal(i, sphere.normal(i) * 2.0);
+  for (std::size_t i = 0; i < 12; ++i) sphere.set_normal(100 * i, {});
+  const std::string path = ::testing::TempDir() + "station_setup_bad_normals.ply";
+  deform::write_ply(path, sphere);
+  const std::string model = "[model]\npath = \"" + path + "\"\n";
+  const std::string glove = "[glove]\nbackend = \"sim\"\n[[glove.sim.script]]\nfinger = \"index\"\n"
+                            "keyframes = [[0, 0, 0, 1.3]]\n";
+  const StationSetup repaired = prepare_station(parse_scene(model + glove, "t.toml", ""));
+  EXPECT_EQ(repaired.normal_report.zero_or_nonfinite, 12u);
+  EXPECT_EQ(repaired.normal_report.renormalised, 3203u - 12u);
+  EXPECT_EQ(repaired.normals_source, "file (12 zero or non-finite normals re-estimated, 3,191 normalised)");
+  const Scene refusing = parse_scene(model + "bad_normals = \"refuse\"\n" + glove, "t.toml", "");
+  EXPECT_THROW(prepare_station(refusing), deform::ModelFileError);
+  // Normals the scene replaces anyway need no policy: naming one is a slip.
+  EXPECT_THROW(parse_scene(model + "normals = \"pca\"\nbad_normals = \"refuse\"\n" + glove, "t.toml", ""),
+               SceneError);
+  std::filesystem::remove(path);
 }
 
 }  // namespace

@@ -90,6 +90,107 @@ expect_json "collision found with the reference point" "j['collisions'] == 1 and
 expect_exit 0 "estimated normals" -- "$SCULPT" deform --model "$work/bare.xyz" --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
 expect_json "collision found with PCA normals" "j['collisions'] == 1 and j['normals'] == 'estimated (PCA)'"
 
+# File normals that are zero (CGAL's blobby.xyz) are missing ones: re-estimated and counted, or
+# refused by --bad-normals refuse. Long ones are normalised and counted.
+python3 - "$work/bare.xyz" "$work/zero.xyz" "$work/long.xyz" <<'PY'
+import sys
+points = [l.split() for l in open(sys.argv[1])]
+with open(sys.argv[2], 'w') as zero, open(sys.argv[3], 'w') as long:
+    for x, y, z in points:
+        zero.write('%s %s %s 0 0 0\n' % (x, y, z))
+        # the unit sphere's outward normal is the position; three times it is 3 long
+        long.write('%s %s %s %r %r %r\n' % (x, y, z, 3 * float(x), 3 * float(y), 3 * float(z)))
+PY
+expect_exit 0 "zero normals re-estimated" -- "$SCULPT" deform --model "$work/zero.xyz" --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
+if grep -qx "$work/zero.xyz: 3,203 zero or non-finite normals re-estimated" "$work/err"; then ok "zero normals counted on stderr"; else bad "zero normals line: $(cat "$work/err")"; fi
+expect_json "zero normals re-estimated press collides" "j['collisions'] == 1 and j['normals_checked'] == {'policy': 'reestimate', 'zero_or_nonfinite': 3203, 'renormalised': 0}"
+expect_exit 1 "zero normals refused" -- "$SCULPT" deform --model "$work/zero.xyz" --contact 0,0,1.1:0,0,0.95 --bad-normals refuse
+one_line_error "refusal names the file and the first vertex" "zero.xyz: vertex 0 has a zero normal"
+expect_exit 0 "long normals normalised" -- "$SCULPT" deform --model "$work/long.xyz" --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
+if grep -qx "$work/long.xyz: 3,203 normals normalised" "$work/err"; then ok "long normals counted on stderr"; else bad "long normals line: $(cat "$work/err")"; fi
+expect_json "long normals counted in the report" "j['normals_checked']['renormalised'] == 3203 and j['collisions'] == 1"
+cp "$work/report.json" "$work/long.json"
+expect_exit 0 "same press, unit normals" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
+expect_json "normalised normals give the unit normals' traction" "all(abs(a - b) <= 1e-6 * (1 + abs(b)) for a, b in zip(json.load(open('$work/long.json'))['contacts'][0]['traction'], j['contacts'][0]['traction']))"
+expect_exit 2 "unknown --bad-normals" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --bad-normals ignore
+one_line_error "unknown --bad-normals named" "ignore"
+
+# Only regular files are models: a FIFO is refused at once instead of waiting for a writer.
+mkfifo "$work/pipe.ply"
+expect_exit 1 "FIFO as model" -- timeout 20 "$SCULPT" deform --model "$work/pipe.ply" --contact 0,0,1.1:0,0,0.9
+one_line_error "FIFO refused by name" "pipe.ply: cannot read: a FIFO, not a regular file"
+ln -s /dev/zero "$work/zero.ply"   # /dev/zero under a model's name: read, it would fill memory
+expect_exit 1 "device as model" -- timeout 20 "$SCULPT" deform --model "$work/zero.ply" --contact 0,0,1.1:0,0,0.9
+one_line_error "device refused by name" "zero.ply: cannot read: a character device, not a regular file"
+
+# --out equal to --model on a disk that fills up mid-write (a file size limit): the write fails,
+# the input keeps every byte, and no temporary file is left beside it.
+mkdir "$work/full"
+cp "$sphere" "$work/full/same.ply"
+expect_exit 1 "write fails half way" -- bash -c "trap '' XFSZ; ulimit -f 20; exec \"\$@\"" _ \
+  "$SCULPT" deform --model "$work/full/same.ply" --out "$work/full/same.ply" --contact 0,0,1.1:0,0,0.95
+one_line_error "failed write named" "same.ply: cannot write (File too large)"
+if cmp -s "$work/full/same.ply" "$sphere"; then ok "input intact after a failed write over it"; else bad "input changed by a failed write"; fi
+if [[ "$(ls -A "$work/full")" == "same.ply" ]]; then ok "no temporary file left"; else bad "left behind: $(ls -A "$work/full")"; fi
+expect_exit 0 "--out over --model" -- "$SCULPT" deform --model "$work/full/same.ply" --out "$work/full/same.ply" --contact 0,0,1.1:0,0,0.95
+expect_exit 0 "deformed in place reads back" -- "$SCULPT" deform --model "$work/full/same.ply" --contact 0,0,3:0,0,2.9 --json "$work/report.json"
+expect_json "in-place result whole" "j['points'] == 3203"
+
+# Faces are kept: the Stanford bunny pressed by sculpt deform and written as PLY (and OFF)
+# keeps every triangle of the OFF file, index for index.
+bunny="$repo/data/scans/bunny00.off"
+if [[ -f "$bunny" ]]; then
+  contact=$(python3 - "$bunny" <<'PY'
+import sys
+lines = [l.split('#')[0].split() for l in open(sys.argv[1])]
+lines = [l for l in lines if l]
+v, f = int(lines[1][0]), int(lines[1][1])
+pts = [tuple(map(float, l[:3])) for l in lines[2:2 + v]]
+top = max(pts, key=lambda p: p[1])   # press the highest point straight down
+print('%r,%r,%r:%r,%r,%r' % (top[0], top[1] + 0.01, top[2], top[0], top[1] - 0.004, top[2]))
+PY
+)
+  expect_exit 0 "press the bunny" -- "$SCULPT" deform --model "$bunny" --contact "$contact" --out "$work/bunny.ply" --json "$work/report.json"
+  expect_json "bunny pressed, faces counted" "j['collisions'] == 1 and j['points_moved'] > 0 and j['faces'] == 75408"
+  expect_exit 0 "bunny as OFF" -- "$SCULPT" deform --model "$bunny" --contact "$contact" --out "$work/bunny.off"
+  if python3 - "$bunny" "$work/bunny.ply" "$work/bunny.off" <<'PY'
+import struct, sys
+def off_faces(path):
+    lines = [l.split('#')[0].split() for l in open(path)]
+    lines = [l for l in lines if l]
+    v, f = int(lines[1][0]), int(lines[1][1])
+    faces = [tuple(map(int, l[1:])) for l in lines[2 + v:2 + v + f]]
+    assert all(len(t) == 3 for t in faces), 'not all triangles'
+    return v, faces
+v, truth = off_faces(sys.argv[1])
+assert len(truth) == 75408, len(truth)
+data = open(sys.argv[2], 'rb').read()
+end = data.index(b'end_header\n') + len(b'end_header\n')
+header = data[:end].decode().split('\n')
+assert 'format binary_little_endian 1.0' in header
+count = {l.split()[1]: int(l.split()[2]) for l in header if l.startswith('element')}
+assert count == {'vertex': v, 'face': len(truth)}, count
+first = next(i for i, l in enumerate(header) if l.startswith('element vertex'))
+last = next(i for i, l in enumerate(header) if l.startswith('element face'))
+assert all(l.startswith('property float ') for l in header[first + 1:last])
+stride = 4 * (last - first - 1)
+at = end + v * stride
+ply = []
+for _ in range(len(truth)):
+    n, a, b, c = struct.unpack_from('<B3i', data, at)
+    assert n == 3
+    ply.append((a, b, c))
+    at += 13
+assert at == len(data), (at, len(data))
+assert ply == truth, 'PLY faces differ from the OFF file'
+v2, off = off_faces(sys.argv[3])
+assert v2 == v and off == truth, 'OFF faces differ from the OFF file'
+PY
+  then ok "bunny keeps all 75,408 triangles in PLY and OFF"; else bad "bunny lost or changed faces"; fi
+else
+  echo "skip bunny faces: $bunny is absent (scripts/fetch_scans.sh)"
+fi
+
 # Bad arguments: one line on stderr, exit 2.
 expect_exit 2 "missing --contact" -- "$SCULPT" deform --model "$sphere"
 one_line_error "missing --contact names it" "contact"
@@ -195,6 +296,10 @@ open(sys.argv[2], 'wb').write(bytes(data[:-7]))                    # and cut the
 PY
 expect_exit 0 "replay a corrupt log" -- "$SCULPT" replay "$work/corrupt.lcmlog" --model "$sphere" --json "$work/report.json"
 expect_json "corruption reported with byte offsets" "len(j['skipped']) >= 1 and all('byte offset' in s for s in j['skipped'])"
+expect_exit 1 "replay refuses zero normals when asked" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/zero.xyz" --bad-normals refuse
+one_line_error "replay refusal names the vertex" "zero.xyz: vertex 0 has a zero normal"
+expect_exit 0 "replay re-estimates zero normals" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/zero.xyz" --json "$work/report.json"
+expect_json "replay reports the normals it repaired" "j['normals_checked']['zero_or_nonfinite'] == 3203 and j['transfer']['events'] > 0"
 expect_exit 1 "replay a missing log" -- "$SCULPT" replay "$work/nope.lcmlog" --model "$sphere"
 one_line_error "missing log named" "nope.lcmlog"
 # The thesis's reduced model set: record on 10 % of a 40,000-point sphere, transfer to all of it.

@@ -7,6 +7,7 @@
 
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/model_io.hpp"
+#include "sculpt/deform/normal_check.hpp"
 #include "sculpt/deform/normals.hpp"
 
 namespace sculpt::tools::check {
@@ -349,6 +350,7 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
     bust.skipped = options.scan_path + " not found (scripts/fetch_scans.sh)";
   } else {
     deform::PointModel scan = deform::read_model(options.scan_path);
+    deform::check_normals(scan, deform::NormalPolicy::kReestimate, options.scan_path);
     deform::ensure_normals(scan);  // the deformer needs normals; the oracle never reads them
     // This export's faces are wound inconsistently (about half its face normals point inward),
     // which no deformer can survive: the sweep tests the core on consistently oriented normals

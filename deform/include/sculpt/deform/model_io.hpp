@@ -3,7 +3,14 @@
 //
 // Every reader loads the whole file into memory and parses it from there, so the in-memory
 // *_from_buffer variants behave exactly like the file ones (the tests and fuzzers use them).
-// Readers either return a model that passes PointModel::validate() or throw ModelFileError.
+// Only regular files are read (a directory, FIFO or device is refused before any read), and
+// every count a header declares is checked against the bytes left before anything is allocated
+// for it. Readers either return a model that passes PointModel::validate() or throw
+// ModelFileError. Normals come as the file has them (zero, non-finite or of any length):
+// check_normals() (normal_check.hpp) is what makes them unit normals or refuses them.
+//
+// Every writer builds the whole file in memory and hands it to write_file_atomically(), so a
+// failed write leaves the old file in place. Faces are written by PLY and OFF.
 
 #include <stdexcept>
 #include <string>
@@ -46,7 +53,8 @@ PointModel read_ply(const std::string& path);
 /// read_ply on bytes already in memory; `name_for_errors` stands in for the path in errors.
 PointModel read_ply_from_buffer(std::string_view bytes, const std::string& name_for_errors);
 
-/// Writes positions (float), normals (float) and colours (uchar) when present; never faces.
+/// Writes positions (float), normals (float), colours (uchar) when present, and the triangles as
+/// a "face" element (property list uchar int vertex_indices) when the model has any.
 /// Throws std::invalid_argument when the model is inconsistent (see PointModel::validate) or
 /// has non-finite normals, and ModelFileError when the file cannot be written.
 void write_ply(const std::string& path, const PointModel& model,
@@ -60,6 +68,13 @@ std::string write_ply_to_buffer(const PointModel& model,
 PointModel read_off(const std::string& path);
 /// read_off on text already in memory.
 PointModel read_off_from_buffer(std::string_view text, const std::string& name_for_errors);
+
+/// Writes OFF, NOFF, COFF or CNOFF as the model has normals and colours: "x y z [nx ny nz]
+/// [r g b a]" per vertex (alpha 255 when the model has none; read_off drops alpha), then one
+/// "3 a b c" line per triangle. Throws like write_ply.
+void write_off(const std::string& path, const PointModel& model);
+/// write_off into a string instead of a file.
+std::string write_off_to_buffer(const PointModel& model);
 
 /// Reads an XYZ point file: "x y z" or "x y z nx ny nz" per line (the same on every line),
 /// '#' comments and blank lines allowed.
@@ -76,8 +91,8 @@ std::string write_xyz_to_buffer(const PointModel& model);
 /// Reads by file extension, case-insensitively: .ply, .off or .xyz. Any other extension
 /// throws ModelFileError.
 PointModel read_model(const std::string& path);
-/// Writes by file extension, case-insensitively: .ply (with `encoding`) or .xyz. Any other
-/// extension throws ModelFileError.
+/// Writes by file extension, case-insensitively: .ply (with `encoding`), .off or .xyz. Any
+/// other extension throws ModelFileError.
 void write_model(const std::string& path, const PointModel& model,
                  PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
 

@@ -3,7 +3,9 @@
 // themselves and oriented consistently.
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/deform/vec3.hpp"
@@ -42,6 +44,14 @@ void estimate_normals(PointModel& model, const NormalEstimation& options = {});
 /// scans); every connected component is seeded the same way.
 /// Throws std::invalid_argument if the model has no normals (and is not empty).
 void orient_normals(PointModel& model, const NormalEstimation& options = {});
+
+/// New normals for the listed points only (indices, repeats allowed), the others kept: each
+/// listed point gets the PCA normal of its k = 12 nearest points (listed or not: the plane is
+/// the surface's, whatever the normals say), turned to agree with the normal of its nearest
+/// unlisted point, whose side is taken as settled. When every point is listed there is nothing
+/// to agree with, and this is ensure_normals(model, true). A no-op for an empty list.
+/// Throws std::invalid_argument if the model has no normals or an index is out of range.
+void reestimate_normals(PointModel& model, const std::vector<std::uint32_t>& points);
 
 /// Gives the model normals: from faces if it has triangles, PCA (default options) otherwise.
 /// A no-op if it already has normals, unless `force`.

@@ -19,10 +19,13 @@ inline constexpr double kMaxCoordinate = 1e18;
 /// "has normals" exactly when nx, ny and nz hold one entry per point.
 struct PointModel {
   std::vector<float> x, y, z;
-  std::vector<float> nx, ny, nz;                      ///< unit normals, or empty
+  /// Unit normals, or empty. Straight from a file they are as the file has them; check_normals()
+  /// (normal_check.hpp) makes them unit or refuses them.
+  std::vector<float> nx, ny, nz;
   std::vector<std::uint8_t> red, green, blue, alpha;  ///< colours, or empty (alpha may be empty alone)
-  /// Triangles from the file (three point indices each; polygons are fanned), or empty.
-  /// Kept only to compute normals from faces; never deformed or written back.
+  /// Triangles from the file (three point indices each; polygons are fanned), or empty. The
+  /// connectivity of the surface: deformation moves the points and leaves it as it is, and the
+  /// PLY and OFF writers write it back, so mesh tools show the sculpted surface.
   std::vector<std::uint32_t> triangles;
 
   std::size_t size() const { return x.size(); }

@@ -19,6 +19,7 @@
 #include "sculpt/deform/contact.hpp"
 #include "sculpt/deform/displacement_field.hpp"
 #include "sculpt/deform/kernel.hpp"
+#include "sculpt/deform/normal_check.hpp"
 #include "sculpt/deform/vec3.hpp"
 #include "sculpt/deform/weight_solver.hpp"
 #include "sculpt/hal/backend_config.hpp"
@@ -61,6 +62,8 @@ struct ModelScene {
   /// A point known to be outside (the scanner); set exactly when normals == kNone.
   std::optional<deform::Vec3> reference;
   NormalsSource normals = NormalsSource::kAuto;
+  /// What the file's zero or non-finite normals get when its normals are used (normals = auto).
+  deform::NormalPolicy bad_normals = deform::NormalPolicy::kReestimate;
 };
 
 struct KernelScene {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sculpt/deform/model_scale.hpp"
+#include "sculpt/deform/normal_check.hpp"
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/rt/scene.hpp"
 #include "sculpt/rt/similarity_transform.hpp"
@@ -18,7 +19,10 @@ namespace sculpt::rt {
 struct StationSetup {
   deform::PointModel model;
   StationSettings settings;
-  std::string normals_source;          ///< "file", "from faces", "estimated (PCA)", "none"
+  /// "file", "from faces", "estimated (PCA)", "none"; "file (<describe(normal_report)>)" when
+  /// check_normals repaired some of the file's normals.
+  std::string normals_source;
+  deform::NormalReport normal_report;  ///< what check_normals did to the file's normals
   deform::TypicalSpacing spacing;      ///< the model's length scale, and which statistic gave it
   std::optional<Calibration> calibration;  ///< when the scene gave landmarks
   std::vector<std::string> notes;      ///< defaults derived, for the user to see once
