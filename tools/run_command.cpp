@@ -9,12 +9,13 @@
 #include <csignal>
 #include <filesystem>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <thread>
 
 #include "commands.hpp"
+#include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
+#include "sculpt/deform/normal_check.hpp"
 #include "sculpt/rt/fixed_rate_loop.hpp"
 #include "sculpt/rt/realtime_setup.hpp"
 #include "sculpt/rt/scene.hpp"
@@ -89,6 +90,10 @@ class RunCommand final : public Command {
                 scene.model.path.c_str(), setup.model.size(), setup.normals_source.c_str(), setup.spacing.value,
                 setup.spacing.statistic.c_str());
     for (const std::string& note : setup.notes) std::printf("default  %s\n", note.c_str());
+    const deform::NormalReport& normals = setup.normal_report;
+    if (normals.zero_or_nonfinite + normals.renormalised > 0) {
+      std::fprintf(stderr, "%s: %s\n", scene.model.path.c_str(), deform::describe(normals).c_str());
+    }
     if (setup.calibration) {
       std::printf("register calibrated from %zu landmarks: rms residual %.4g, max %.4g\n",
                   scene.registration.landmarks.size(), setup.calibration->rms_residual, setup.calibration->max_residual);
@@ -138,12 +143,12 @@ class RunCommand final : public Command {
     }
     nlohmann::json summary = make_summary(*station, loop);
     if (recorder) summary["recording"] = recording_json(recorder->counts());
+    summary["normals_checked"] = {{"zero_or_nonfinite", normals.zero_or_nonfinite},
+                                  {"renormalised", normals.renormalised}};
     const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
     if (!json.empty()) {
       create_parent(json);
-      std::ofstream file(json);
-      file << summary.dump(2) << "\n";
-      if (!file) throw std::runtime_error("cannot write " + json);
+      deform::write_file_atomically(json, summary.dump(2) + "\n");
     }
     const rt::StationTotals& t = station->totals();
     std::printf("\nresult   %llu ticks at %.1f Hz, %llu overruns, tick median %.1f us p99 %.1f us max %.1f us\n",
