@@ -4,7 +4,8 @@
 
 namespace sculpt::rt {
 
-IndexRebuilder::IndexRebuilder(std::size_t points) {
+IndexRebuilder::IndexRebuilder(std::size_t points, std::size_t points_per_tick)
+    : points_per_tick_(std::max<std::size_t>(points_per_tick, 1)) {
   snapshot_.resize(points, false, false);
   worker_ = std::thread([this] { work(); });
 }
@@ -16,14 +17,30 @@ IndexRebuilder::~IndexRebuilder() {
 }
 
 bool IndexRebuilder::request(const deform::PointModel& model, double drift) noexcept {
-  if (state_.load(std::memory_order_acquire) != kIdle || model.size() != snapshot_.size()) return false;
-  std::copy(model.x.begin(), model.x.end(), snapshot_.x.begin());
-  std::copy(model.y.begin(), model.y.end(), snapshot_.y.begin());
-  std::copy(model.z.begin(), model.z.end(), snapshot_.z.begin());
+  if (copying_ || state_.load(std::memory_order_acquire) != kIdle || model.size() != snapshot_.size()) return false;
   drift_at_snapshot_ = drift;
+  copied_ = 0;
+  copying_ = true;
+  copy_chunk(model);
+  return true;
+}
+
+void IndexRebuilder::advance(const deform::PointModel& model) noexcept {
+  if (copying_ && model.size() == snapshot_.size()) copy_chunk(model);
+}
+
+void IndexRebuilder::copy_chunk(const deform::PointModel& model) noexcept {
+  const std::size_t begin = copied_;
+  const std::size_t end = std::min(snapshot_.size(), begin + points_per_tick_);
+  const auto from = static_cast<std::ptrdiff_t>(begin), to = static_cast<std::ptrdiff_t>(end);
+  std::copy(model.x.begin() + from, model.x.begin() + to, snapshot_.x.begin() + from);
+  std::copy(model.y.begin() + from, model.y.begin() + to, snapshot_.y.begin() + from);
+  std::copy(model.z.begin() + from, model.z.begin() + to, snapshot_.z.begin() + from);
+  copied_ = end;
+  if (copied_ < snapshot_.size()) return;
+  copying_ = false;
   state_.store(kRequested, std::memory_order_release);
   state_.notify_one();
-  return true;
 }
 
 bool IndexRebuilder::install(deform::Deformer& deformer) noexcept {

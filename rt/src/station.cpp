@@ -308,6 +308,7 @@ const TickReport& Station::tick(std::int64_t now_ns, std::int64_t budget_ns) noe
   if (first_tick_ns_ < 0) first_tick_ns_ = now_ns;
   report_.budget_ns = budget_ns;
   if (rebuilder_.install(deformer_)) ++totals_.index_rebuilds;
+  rebuilder_.advance(deformer_.model());
   take_samples(now_ns);
   // Each hand has its own age: a silent hand's fingers are released within one tick and cannot
   // deform until it reports again, while the other hand goes on sculpting.
