@@ -216,7 +216,8 @@ class RunCommand final : public Command {
                              {"sequence_gaps", c.sequence_gaps}, {"overflows", c.overflows},
                              {"disconnects", c.disconnects},     {"reconnects", c.reconnects},
                              {"error_frames", c.error_frames},   {"bus_off", c.bus_off},
-                             {"stale_events", t.stale_events},   {"out_of_range", t.out_of_range}};
+                             {"stale_events", t.stale_events},   {"out_of_range", t.out_of_range},
+                             {"haptic_faults", t.haptic_faults}};
     nlohmann::json guards = nlohmann::json::object();
     deform::for_each_guard(t.guards, [&](const char* name, std::uint32_t count) { guards[name] = count; });
     return {{"scene", scene_path_},

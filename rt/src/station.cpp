@@ -255,6 +255,10 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
       f.reaction = deform::Vec3{};
     } else if (c.has_traction) {
       f.reaction += to_glove_frame(-c.traction_resultant) * newtons_per_model_area_;
+      if (!deform::is_finite(f.reaction)) {  // the safe state: nothing, not the last force
+        f.reaction = deform::Vec3{};
+        ++totals_.haptic_faults;
+      }
     }
     if (c.pushed_out) {
       DeadBand& band = tracks_[probe_finger_[k]].dead_band;

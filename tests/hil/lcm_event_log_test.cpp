@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -24,7 +25,11 @@
 #include "child_process.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
+#include "sculpt_lcm/collision_event_t.hpp"
+#include "sculpt_lcm/fingertip_state_t.hpp"
+#include "sculpt_lcm/glove_sample_t.hpp"
 #include "sculpt_lcm/haptic_command_t.hpp"
+#include "sculpt_lcm/tick_stats_t.hpp"
 
 namespace sculpt {
 namespace {
@@ -179,7 +184,7 @@ TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) 
   logging::LogEvent event;
   for (auto r = reader.next(event); r != logging::EventLogReader::Result::kEnd; r = reader.next(event)) {
     if (r != logging::EventLogReader::Result::kEvent || event.channel != logging::kHapticChannel) continue;
-    sculpt_lcm::haptic_command_t m;
+    sculpt_lcm::haptic_command_t m{};
     ASSERT_GT(m.decode(event.data.data(), 0, static_cast<int>(event.data.size())), 0) << "undecodable command";
     const float* f = m.force[1];  // index finger
     commands.push_back({m.utime, m.tick, std::sqrt(double(f[0]) * f[0] + double(f[1]) * f[1] + double(f[2]) * f[2]),
@@ -216,6 +221,84 @@ TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) 
   EXPECT_EQ(commands.back().force, 0.0) << "the finger let go: the last command must release it";
   std::printf("[ haptic ] lcm-logger captured %zu commands, %zu in contact, %zu in the best second, peak %.3f N\n",
               commands.size(), in_contact, best, peak);
+}
+
+// The fields of a recorded log mean what docs/lcm-types.md says: every utime is wall-clock time
+// within the run (never CLOCK_MONOTONIC, which is seconds since boot); budget_us is the time
+// left to the deadline, never more than the period; the haptic, fingertip and collision ticks
+// are loop ticks (each one a tick that has its own tick_stats_t); in the force form the weights
+// are the effective force, in shear-modulus units x model units squared.
+TEST_F(EventLogHil, RecordedFieldsMeanWhatTheDocsSay) {
+  const fs::path scene = scene_in(dir_, "sphere-press", "[haptic]\nsink = \"lcm\"\n[haptic.lcm]\nurl = \"" + unique_url(3) + "\"");
+  std::string text = slurp(scene);
+  replace_all(text, "form = \"scale\"", "form = \"force\"");
+  std::ofstream(scene) << text;
+  const auto wall_us = [] {
+    return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  };
+  const std::int64_t start = wall_us();
+  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "3.5", "--quiet"}, dir_ / "run.txt");
+  ASSERT_EQ(run.wait(), 0) << slurp(dir_ / "run.txt");
+  const std::int64_t end = wall_us();
+
+  std::set<std::int64_t> ticks;
+  std::vector<std::int64_t> joined;  // ticks named by the other channels
+  std::size_t counted = 0, collisions = 0, budgets_below_period = 0;
+  logging::EventLogReader reader((dir_ / "sphere-press.lcmlog").string());
+  logging::LogEvent event;
+  std::string error;
+  const auto within_run = [&](std::int64_t utime, const char* what) {
+    EXPECT_GE(utime, start) << what << " utime is not wall-clock time of this run";
+    EXPECT_LE(utime, end) << what;
+  };
+  for (auto r = reader.next(event); r != logging::EventLogReader::Result::kEnd; r = reader.next(event)) {
+    ASSERT_EQ(r, logging::EventLogReader::Result::kEvent) << reader.error();
+    ++counted;
+    within_run(event.utime, "the log's event");
+    if (event.channel == logging::kTickChannel) {
+      sculpt_lcm::tick_stats_t m{};
+      ASSERT_TRUE(logging::decode(event, m, error)) << error;
+      within_run(m.utime, "tick_stats_t");
+      EXPECT_TRUE(ticks.insert(m.tick).second) << "tick " << m.tick << " twice";
+      // Negative when the tick began after its deadline (a late wake-up on a loaded machine).
+      EXPECT_LE(m.budget_us, 1000.0f + 1e-3f) << "budget_us is the time left, at most the 1 ms period";
+      budgets_below_period += m.budget_us < 1000.0f;
+    } else if (event.channel == logging::kHapticChannel) {
+      sculpt_lcm::haptic_command_t m{};
+      ASSERT_TRUE(logging::decode(event, m, error)) << error;
+      within_run(m.utime, "haptic_command_t");
+      joined.push_back(m.tick);
+    } else if (event.channel == logging::kFingertipChannel) {
+      sculpt_lcm::fingertip_state_t m{};
+      ASSERT_TRUE(logging::decode(event, m, error)) << error;
+      within_run(m.utime, "fingertip_state_t");
+      joined.push_back(m.tick);
+    } else if (event.channel == logging::kGloveChannel) {
+      sculpt_lcm::glove_sample_t m{};
+      ASSERT_TRUE(logging::decode(event, m, error)) << error;
+      within_run(m.utime, "glove_sample_t");
+    } else if (event.channel == logging::kCollisionChannel) {
+      sculpt_lcm::collision_event_t m{};
+      ASSERT_TRUE(logging::decode(event, m, error)) << error;
+      within_run(m.utime, "collision_event_t");
+      joined.push_back(m.tick);
+      ++collisions;
+      ASSERT_EQ(m.form, sculpt_lcm::collision_event_t::FORM_FORCE);
+      double weight = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(m.weights[k], m.effective_force[k]) << "force form: the weights are the effective force";
+        weight += m.weights[k] * m.weights[k];
+      }
+      // |f| ~ G |u| r: G = 3e7, a press of a few hundredths over a patch of ~0.1; far from 1.
+      EXPECT_GT(std::sqrt(weight), 1e3) << "weights are not dimensionless";
+    }
+  }
+  ASSERT_GT(collisions, 0u);
+  ASSERT_FALSE(ticks.empty());
+  for (std::int64_t t : joined) ASSERT_TRUE(ticks.count(t)) << "tick " << t << " is not a loop tick";
+  EXPECT_GT(budgets_below_period, ticks.size() / 2) << "the time left is below the period on most ticks";
+  std::printf("[ log ] %zu events, %zu ticks, %zu collisions, %zu joined on tick\n", counted, ticks.size(),
+              collisions, joined.size());
 }
 
 }  // namespace

@@ -93,6 +93,9 @@ struct StationTotals {
   std::uint64_t index_rebuilds = 0;  ///< k-d trees rebuilt in the background and installed
   deform::GuardCounts guards;        ///< every stability guard that acted, summed
   std::uint64_t out_of_range = 0;    ///< fingertips dropped: not finite or far outside the model
+  /// Strokes whose summed reaction stopped being finite: the finger's force is released (the
+  /// safe state), its sum restarted, and the station goes on. Never expected; counted if it is.
+  std::uint64_t haptic_faults = 0;
 };
 
 /// Everything is allocated by the constructor; tick() allocates nothing, throws nothing and
