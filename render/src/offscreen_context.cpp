@@ -1,0 +1,30 @@
+#include "offscreen_context.hpp"
+
+#include <GL/osmesa.h>
+
+#include <string>
+
+#include "sculpt/render/view_renderer.hpp"
+
+namespace sculpt::render {
+
+OffscreenContext::OffscreenContext(int width, int height)
+    : width_(width), height_(height), buffer_(static_cast<std::size_t>(width) * height * 4) {
+  context_ = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+  if (context_ == nullptr) {
+    throw RenderError("OSMesa could not create an OpenGL context (is Mesa's libOSMesa installed?)");
+  }
+}
+
+OffscreenContext::~OffscreenContext() {
+  OSMesaDestroyContext(context_);
+}
+
+void OffscreenContext::make_current() {
+  if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, width_, height_)) {
+    throw RenderError("OSMesa could not bind a " + std::to_string(width_) + "x" + std::to_string(height_) +
+                      " drawing buffer");
+  }
+}
+
+}  // namespace sculpt::render
