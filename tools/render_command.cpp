@@ -231,8 +231,10 @@ class RenderCommand final : public Command {
     const render::Image picture = render::render_picture(model, before ? &*before : nullptr, request_, &info);
     render::write_png(out_path_, picture);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    std::printf("model    %s: %zu points%s\n", model_path_.c_str(), model.size(),
-                model.triangles.empty() ? ", drawn as splats" : ", drawn as faces");
+    const char* drawn = !model.triangles.empty()                  ? "drawn as faces"
+                        : before && !before->triangles.empty() ? "drawn with the faces of --compare's model"
+                                                               : "drawn as splats";
+    std::printf("model    %s: %zu points, %s\n", model_path_.c_str(), model.size(), drawn);
     if (before) std::printf("compare  %s: largest displacement %.4g model units\n", before_path_.c_str(), info.max_displacement);
     std::printf("wrote    %s: %dx%d (%d x %d views), %.0f ms\n", out_path_.c_str(), picture.width, picture.height,
                 info.rows, info.columns, ms);

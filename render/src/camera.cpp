@@ -117,4 +117,36 @@ Camera fit_camera(const Vec3& centre, double radius, const Vec3& direction, UpAx
   return camera;
 }
 
+Camera tighten(const Camera& camera, const std::vector<Vec3>& points, double radius, double margin) {
+  constexpr int kRounds = 8;
+  Camera c = camera;
+  const Vec3 centre = camera.target;
+  const double tan_v = std::tan(radians(c.vertical_fov_deg) / 2.0);
+  const double tan_h = tan_v * c.width / c.height;
+  for (int round = 0; round < kRounds && !points.empty(); ++round) {
+    Vec3 right, up, back;
+    c.basis(right, up, back);
+    // The points' extent in tangent-of-angle coordinates, where the frame is [-tan_h, tan_h] x
+    // [-tan_v, tan_v].
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (const Vec3& p : points) {
+      const Vec3 v = p - c.eye;
+      const double depth = -dot(v, back);
+      if (!(depth > 0.0)) continue;
+      const double x = dot(v, right) / depth, y = dot(v, up) / depth;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+    if (!(x1 > x0) && !(y1 > y0)) break;
+    const double distance = norm(c.target - c.eye);
+    const Vec3 shift = distance * (0.5 * (x0 + x1) * right + 0.5 * (y0 + y1) * up);
+    const double scale = margin * std::max((x1 - x0) / (2.0 * tan_h), (y1 - y0) / (2.0 * tan_v));
+    c.target += shift;
+    const double closer = std::max(distance * scale, 1.05 * radius + norm(c.target - centre));
+    c.eye = c.target + closer * back;
+    c.near_distance = std::max(closer - 1.5 * radius, 1e-3 * closer);
+    c.far_distance = closer + 1.5 * radius;
+  }
+  return c;
+}
+
 }  // namespace sculpt::render

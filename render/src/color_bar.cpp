@@ -65,7 +65,7 @@ void draw_color_bar(Image& image, int x, int y, int h, const ColorBar& bar) {
   const BarLayout l = layout(bar);
   const int scale = bar.text_scale;
   const int strip_top = y + l.pad + l.line;
-  const int strip_height = std::max(8, h - 2 * l.pad - 3 * l.line);
+  const int strip_height = std::max(8, h - 3 * l.pad - 3 * l.line);
   const int strip_x = x + l.pad;
   draw_text(image, x + l.pad, y, bar.title, kInk, scale);
   for (int row = 0; row < strip_height; ++row) {
@@ -79,8 +79,10 @@ void draw_color_bar(Image& image, int x, int y, int h, const ColorBar& bar) {
     // stb_easy_font's digits sit in the upper part of their line box.
     draw_text(image, strip_x + l.strip + l.tick + l.pad, row - l.line / 4, label(tick), kInk, scale);
   }
-  draw_text(image, x + l.pad, strip_top + strip_height + l.pad, bar.unit, kInk, scale);
-  draw_text(image, x + l.pad, strip_top + strip_height + l.pad + l.line, max_label(bar), kInk, scale);
+  // Below the 0 tick's label, which hangs a little under the strip.
+  const int below = strip_top + strip_height + 2 * l.pad;
+  draw_text(image, x + l.pad, below, bar.unit, kInk, scale);
+  draw_text(image, x + l.pad, below + l.line, max_label(bar), kInk, scale);
 }
 
 }  // namespace sculpt::render

@@ -17,6 +17,7 @@ namespace {
 
 constexpr int kMaxViews = 36;
 constexpr Rgb kLabelInk{0.15, 0.15, 0.18};
+constexpr double kMargin = 1.1;  // the model fills 1 / kMargin of the view's limiting side
 
 // `v` turned by `degrees` about the unit axis `k` (Rodrigues' formula).
 Vec3 turn(const Vec3& v, const Vec3& k, double degrees) {
@@ -41,6 +42,7 @@ void check(const PictureRequest& r) {
 struct Framing {
   Vec3 centre;
   double radius = 0.0;
+  std::vector<Vec3> points;  // to tighten each view's camera on
 };
 
 Framing frame(const deform::PointModel& model, const deform::PointModel* before, const Overlay& overlay) {
@@ -51,9 +53,13 @@ Framing frame(const deform::PointModel& model, const deform::PointModel* before,
   for (const Arrow& a : overlay.arrows) extra.insert(extra.end(), {a.from, a.to});
   for (const Marker& m : overlay.markers) extra.push_back(m.position);
   for (const Vec3& p : extra) box.add(p);
-  Framing f{box.centre(), farthest_distance(model, box.centre())};
+  Framing f{box.centre(), farthest_distance(model, box.centre()), extra};
   if (before != nullptr) f.radius = std::max(f.radius, farthest_distance(*before, f.centre));
   for (const Vec3& p : extra) f.radius = std::max(f.radius, norm(p - f.centre));
+  for (const deform::PointModel* m : {&model, before}) {
+    if (m == nullptr) continue;
+    for (std::size_t i = 0; i < m->size(); ++i) f.points.push_back(m->position(i));
+  }
   return f;
 }
 
@@ -61,7 +67,8 @@ std::string view_label(const PictureRequest& r, bool compare, int row, int colum
   std::string label;
   if (compare) label = row == 0 ? "before" : "after";
   if (r.views > 1 && !r.look) {
-    const double azimuth = std::remainder(r.azimuth_deg + 360.0 * column / r.views, 360.0);
+    double azimuth = std::fmod(r.azimuth_deg + 360.0 * column / r.views, 360.0);
+    if (azimuth < 0.0) azimuth += 360.0;
     label += (label.empty() ? "" : ", ") + std::string("azimuth ") + std::to_string(std::lround(azimuth));
   }
   return label;
@@ -73,7 +80,17 @@ Image render_picture(const deform::PointModel& model, const deform::PointModel* 
                      PictureInfo* info) {
   check(request);
   const bool compare = before != nullptr;
-  RenderModel after_model(model);
+  // Deformation moves points and keeps connectivity, but not every writer keeps the faces: an
+  // after model without faces of its own is drawn with before's, so the two panels differ only
+  // in what moved.
+  const bool borrow_faces = compare && model.triangles.empty() && !before->triangles.empty() &&
+                            before->size() == model.size();
+  deform::PointModel with_faces;
+  if (borrow_faces) {
+    with_faces = model;
+    with_faces.triangles = before->triangles;
+  }
+  RenderModel after_model(borrow_faces ? with_faces : model);
   std::vector<RenderModel> models;  // before (when comparing), then the model
   double max_displacement = 0.0;
   if (compare) {
@@ -98,10 +115,17 @@ Image render_picture(const deform::PointModel& model, const deform::PointModel* 
   const int grid_rows = side_by_side ? 1 : static_cast<int>(models.size());
   Image picture(columns * w + bar_width, grid_rows * h, request.lighting.background);
 
+  // Labelled views keep the model out of a band as tall as the label, top and bottom alike.
+  const bool labelled = !view_label(request, compare, 0, 0).empty();
+  const int label_band = labelled ? text_height("a", label_scale) + 8 * label_scale : 0;
+  const double margin = kMargin * h / std::max(1, h - 2 * label_band);
   ViewRenderer renderer(w, h, request.supersample);
+  std::vector<Camera> cameras;
   for (int view = 0; view < request.views; ++view) {
     const Vec3 direction = turn(first, up, 360.0 * view / request.views);
-    const Camera camera = fit_camera(framing.centre, framing.radius, direction, request.up, w, h);
+    const Camera camera = tighten(fit_camera(framing.centre, framing.radius, direction, request.up, w, h),
+                                  framing.points, framing.radius, margin);
+    cameras.push_back(camera);
     for (std::size_t m = 0; m < models.size(); ++m) {
       const bool is_model = m + 1 == models.size();
       const Image image = renderer.render(models[m], camera, request.lighting, is_model ? request.overlay : Overlay{});
@@ -116,7 +140,7 @@ Image render_picture(const deform::PointModel& model, const deform::PointModel* 
     const int margin = picture.height / 10;
     draw_color_bar(picture, columns * w, margin, picture.height - 2 * margin, bar);
   }
-  if (info != nullptr) *info = {max_displacement, grid_rows, columns};
+  if (info != nullptr) *info = {max_displacement, grid_rows, columns, std::move(cameras)};
   return picture;
 }
 

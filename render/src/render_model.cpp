@@ -1,5 +1,7 @@
 #include "sculpt/render/render_model.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -8,6 +10,41 @@
 #include "sculpt/deform/point_index.hpp"
 
 namespace sculpt::render {
+namespace {
+
+// Splat sizes are quantised to quarter octaves (19% apart) of the typical spacing, and kept
+// between half and four times it, so a stray point far from the rest is not a huge disc.
+constexpr int kClassesPerOctave = 4;
+constexpr int kSmallestClass = -kClassesPerOctave;
+constexpr int kLargestClass = 2 * kClassesPerOctave;
+constexpr std::size_t kLocalNeighbour = 3;
+
+std::vector<SplatClass> make_splat_classes(const deform::PointModel& model) {
+  const deform::PointIndex index(model);
+  const double typical = deform::typical_spacing(model, index).value;
+  std::vector<SplatClass> classes(kLargestClass - kSmallestClass + 1);
+  for (int c = kSmallestClass; c <= kLargestClass; ++c) {
+    classes[c - kSmallestClass].diameter =
+        kSplatsPerSpacing * typical * std::exp2(static_cast<double>(c) / kClassesPerOctave);
+  }
+  std::vector<std::uint32_t> neighbours;
+  std::vector<double> squared;
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    // A few more than needed, so coincident copies of the point do not count as neighbours.
+    index.k_nearest(model.position(i), kLocalNeighbour + 5, neighbours, squared);
+    double local = 0.0;
+    std::size_t distinct = 0;
+    for (const double d2 : squared) {
+      if (d2 > 0.0 && ++distinct <= kLocalNeighbour) local = std::sqrt(d2);
+    }
+    const int c = local > 0.0 ? static_cast<int>(std::lround(kClassesPerOctave * std::log2(local / typical))) : 0;
+    classes[std::clamp(c, kSmallestClass, kLargestClass) - kSmallestClass].points.push_back(static_cast<std::uint32_t>(i));
+  }
+  std::erase_if(classes, [](const SplatClass& s) { return s.points.empty(); });
+  return classes;
+}
+
+}  // namespace
 
 RenderModel::RenderModel(const deform::PointModel& model) {
   if (model.empty()) throw std::invalid_argument("the model has no points to draw");
@@ -45,10 +82,8 @@ RenderModel::RenderModel(const deform::PointModel& model) {
     colors_[3 * i + 2] = own ? model.blue[i] / 255.0f : static_cast<float>(kClayColor.b);
   }
 
-  if (triangles_.empty()) {
-    // Splats as wide as the typical gap between neighbours, so the points close into a surface.
-    splat_diameter_ = kSplatsPerSpacing * deform::typical_spacing(model, deform::PointIndex(model)).value;
-  }
+  // Splats as wide as the gaps around each point, so the points close into a surface.
+  if (triangles_.empty()) splat_classes_ = make_splat_classes(model);
 }
 
 void RenderModel::set_colors(const std::vector<Rgb>& colors) {

@@ -32,8 +32,10 @@ void draw_splats(const RenderModel& model, const Camera& camera, int supersample
   glAlphaFunc(GL_GREATER, 0.5f);
   const GLfloat attenuation[3] = {0.0f, 0.0f, 1.0f};
   glPointParameterfv(GL_POINT_DISTANCE_ATTENUATION, attenuation);
-  glPointSize(static_cast<GLfloat>(model.splat_diameter() * camera.focal_pixels() * supersample));
-  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(model.size()));
+  for (const SplatClass& splats : model.splat_classes()) {
+    glPointSize(static_cast<GLfloat>(splats.diameter * camera.focal_pixels() * supersample));
+    glDrawElements(GL_POINTS, static_cast<GLsizei>(splats.points.size()), GL_UNSIGNED_INT, splats.points.data());
+  }
   const GLfloat none[3] = {1.0f, 0.0f, 0.0f};
   glPointParameterfv(GL_POINT_DISTANCE_ATTENUATION, none);
 }

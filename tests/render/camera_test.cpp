@@ -69,5 +69,27 @@ TEST(Camera, FitShowsTheWholeBoundingSphereWithTheMargin) {
   EXPECT_THROW(render::fit_camera({0, 0, 0}, 1.0, {0, 0, 0}, render::UpAxis::kY, 10, 10), std::invalid_argument);
 }
 
+// Tightened on an elongated set of points, the camera keeps its direction and the points'
+// projection is centred and fills the frame's limiting side, up to the margin.
+TEST(Camera, TightenCentresAndFillsThePicture) {
+  std::vector<Vec3> points;
+  for (int i = 0; i <= 20; ++i) points.push_back({-2.0 + 0.2 * i, 0.3 * std::sin(i), 0.1 * i - 1.0});
+  const double radius = 2.3;
+  const Vec3 look = render::look_direction(render::UpAxis::kY, 20.0, 15.0);
+  const render::Camera loose = render::fit_camera({0, 0, 0}, radius, look, render::UpAxis::kY, 320, 240);
+  const render::Camera tight = render::tighten(loose, points, radius);
+  EXPECT_NEAR(deform::dot(deform::normalized(tight.target - tight.eye), deform::normalized(look)), 1.0, 1e-12);
+  double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+  for (const Vec3& p : points) {
+    const PixelPoint q = project(tight, p);
+    x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
+  }
+  EXPECT_NEAR(0.5 * (x0 + x1), 160.0, 2.0);
+  EXPECT_NEAR(0.5 * (y0 + y1), 120.0, 2.0);
+  EXPECT_NEAR(std::max((x1 - x0) / 320.0, (y1 - y0) / 240.0), 1.0 / 1.1, 0.02);
+  EXPECT_GT(x0, 0.0);
+  EXPECT_LT(x1, 320.0);
+}
+
 }  // namespace
 }  // namespace sculpt::test

@@ -65,9 +65,10 @@ TEST(HeatMap, HottestPixelsSitAtTheDentsContact) {
   ASSERT_GT(picture.width, 2 * kView);  // before, after, colour bar
   ASSERT_EQ(picture.height, kView);
 
-  // The same camera the picture's contract describes: both models' bounding sphere (the
-  // undented unit sphere) fitted from the requested direction.
-  const render::Camera camera = render::fit_camera({0, 0, 0}, 1.0, *request.look, request.up, kView, kView);
+  // The camera the picture says it used; where the contact lands is the test's own projection.
+  ASSERT_EQ(info.cameras.size(), 1u);
+  const render::Camera& camera = info.cameras[0];
+  EXPECT_NEAR(deform::dot(deform::normalized(camera.target - camera.eye), deform::normalized(*request.look)), 1.0, 1e-9);
   const PixelPoint expected = project(camera, (1.0 - kDepth) * contact);
   double sum_x = 0.0, sum_y = 0.0;
   int hot_after = 0, hot_before = 0;

@@ -67,7 +67,7 @@ TEST(SphereView, IsADiscOfLitPixelsWhereTheProjectionSays) {
   // The lit area is the silhouette's disc, widened by at most the half splat that rim points
   // reach past it.
   const double measured_radius = std::sqrt(lit / std::numbers::pi);
-  const double half_splat_px = 0.5 * sphere.splat_diameter() / kRadius * radius;
+  const double half_splat_px = 0.5 * sphere.largest_splat_diameter() / kRadius * radius;
   EXPECT_GT(measured_radius, radius - 0.5);
   EXPECT_LT(measured_radius, radius + half_splat_px + 0.5);
 }

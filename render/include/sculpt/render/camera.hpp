@@ -3,6 +3,7 @@
 // box from a direction given as azimuth and elevation about an up axis, or as a vector.
 
 #include <array>
+#include <vector>
 
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/deform/vec3.hpp"
@@ -73,5 +74,12 @@ struct Camera {
 /// direction is zero, the radius is negative, or a size is not positive.
 Camera fit_camera(const Vec3& centre, double radius, const Vec3& direction, UpAxis up, int width, int height,
                   double margin = 1.15);
+
+/// `camera` moved, keeping its direction, so that `points` fill its picture: shifted sideways to
+/// centre their projection and brought as close as lets them fit with `margin` to spare, but
+/// never inside the sphere of `radius` about `camera.target` (so no point falls behind the eye).
+/// A bounding-sphere fit leaves an elongated model (a dragon) small in a corner of the frame.
+/// A few fixed-point rounds, since moving a perspective camera changes every projection.
+Camera tighten(const Camera& camera, const std::vector<Vec3>& points, double radius, double margin = 1.1);
 
 }  // namespace sculpt::render

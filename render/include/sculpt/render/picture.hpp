@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/render/camera.hpp"
@@ -38,12 +39,14 @@ struct PictureInfo {
   double max_displacement = 0.0;  ///< with `before` only
   int rows = 1;
   int columns = 1;
+  std::vector<Camera> cameras;  ///< one per view, shared by before and after
 };
 
-/// Renders `model` as asked. With `before`, `before` and `model` are drawn from the same cameras
+/// Renders `model` as asked, each view's camera fitted to the models' bounding sphere and then
+/// tightened on their points (and the overlay's). With `before`, `before` and `model` are drawn from the same cameras
 /// (fitted to both models together), `model` coloured by its displacement from `before`, with
 /// a colour bar to the right: side by side for one view, a row of `before` above a row of
-/// `model` for several. Throws std::invalid_argument for a request
+/// `model` for several. A `model` without faces is drawn with `before`'s when it has some. Throws std::invalid_argument for a request
 /// out of range or models whose point counts differ, RenderError when no context can be made.
 Image render_picture(const deform::PointModel& model, const deform::PointModel* before,
                      const PictureRequest& request, PictureInfo* info = nullptr);

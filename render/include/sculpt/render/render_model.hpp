@@ -12,9 +12,16 @@
 
 namespace sculpt::render {
 
-/// Splat diameter as a multiple of the typical point spacing (median nearest-neighbour
-/// distance): below about 1.6 a near-uniform scan shows the background between its points.
-inline constexpr double kSplatsPerSpacing = 1.6;
+/// Splat diameter as a multiple of a point's local spacing (the distance to its third nearest
+/// distinct neighbour): below about 1.4 a near-uniform scan shows the background between its
+/// points, and a scan's sparse patches need their own, larger splats.
+inline constexpr double kSplatsPerSpacing = 1.5;
+
+/// Points whose splats share one size (OpenGL's fixed pipeline has one point size per draw).
+struct SplatClass {
+  double diameter = 0.0;  ///< model units
+  std::vector<std::uint32_t> points;
+};
 
 /// The colour of a model that has none of its own: a light clay, so shading reads clearly.
 inline constexpr Rgb kClayColor{0.80, 0.74, 0.66};
@@ -33,8 +40,10 @@ class RenderModel {
 
   std::size_t size() const { return positions_.size() / 3; }
   bool has_faces() const { return !triangles_.empty(); }
-  /// Splat diameter in model units (0 when the model is drawn as faces).
-  double splat_diameter() const { return splat_diameter_; }
+  /// The splats by size, smallest first (empty when the model is drawn as faces).
+  const std::vector<SplatClass>& splat_classes() const { return splat_classes_; }
+  /// The largest splat diameter in model units (0 when the model is drawn as faces).
+  double largest_splat_diameter() const { return splat_classes_.empty() ? 0.0 : splat_classes_.back().diameter; }
 
   const std::vector<float>& positions() const { return positions_; }  ///< x, y, z per point
   const std::vector<float>& normals() const { return normals_; }      ///< unit, x, y, z per point
@@ -44,7 +53,7 @@ class RenderModel {
  private:
   std::vector<float> positions_, normals_, colors_;
   std::vector<std::uint32_t> triangles_;
-  double splat_diameter_ = 0.0;
+  std::vector<SplatClass> splat_classes_;
 };
 
 }  // namespace sculpt::render
