@@ -17,7 +17,7 @@ namespace {
 
 constexpr int kMaxViews = 36;
 constexpr Rgb kLabelInk{0.15, 0.15, 0.18};
-constexpr double kMargin = 1.1;  // the model fills 1 / kMargin of the view's limiting side
+constexpr double kMargin = 1.15;  // the model fills 1 / kMargin of the view's limiting side
 
 // `v` turned by `degrees` about the unit axis `k` (Rodrigues' formula).
 Vec3 turn(const Vec3& v, const Vec3& k, double degrees) {
