@@ -196,10 +196,7 @@ class RenderCommand final : public Command {
 
     try {
       return render();
-    } catch (const std::invalid_argument& e) {  // models that cannot be compared
-      std::cerr << "sculpt render: error: " << e.what() << "\n";
-      return kExitUsage;
-    } catch (const std::exception& e) {  // unreadable input, no OpenGL context, unwritable picture
+    } catch (const std::exception& e) {  // unreadable input, nothing to draw, no OpenGL context, unwritable picture
       std::cerr << "sculpt render: error: " << e.what() << "\n";
       return kExitFailure;
     }
@@ -212,10 +209,12 @@ class RenderCommand final : public Command {
     std::optional<deform::PointModel> before;
     if (!before_path_.empty()) {
       before = read_and_check(before_path_);
+      // Two readable files that do not belong together: the arguments are wrong, not the files.
       if (before->size() != model.size()) {
-        throw std::invalid_argument("--compare " + before_path_ + " has " + std::to_string(before->size()) +
-                                    " points and " + model_path_ + " " + std::to_string(model.size()) +
-                                    "; the heat map pairs points by index, so both must be versions of one model");
+        std::cerr << "sculpt render: error: --compare " << before_path_ << " has " << before->size() << " points and "
+                  << model_path_ << " " << model.size()
+                  << "; the heat map pairs points by index, so both must be versions of one model\n";
+        return kExitUsage;
       }
     }
 #if SCULPT_HAS_LCM

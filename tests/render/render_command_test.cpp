@@ -107,6 +107,12 @@ TEST_F(RenderCommand, UnreadableInputIsExitOneAndModelsOfDifferentSizesExitTwo) 
   const std::string other = path("other.ply");
   deform::write_model(other, deform::make_sphere(1999, 1.0));
   expect_one_line_error(run({sphere_, "--compare", other, "--out", path("x.png")}), 2, "1999 points");
+  // Every point in one place: readable, but nothing to draw (no length scale for splats).
+  deform::PointModel stack;
+  for (int i = 0; i < 5; ++i) stack.push_back({1.0, 2.0, 3.0});
+  const std::string stacked = path("stacked.xyz");
+  deform::write_model(stacked, stack);
+  expect_one_line_error(run({stacked, "--out", path("x.png")}), 1, "coincide");
   EXPECT_FALSE(fs::exists(path("x.png")));
 }
 
