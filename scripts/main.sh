@@ -12,4 +12,12 @@ mkdir -p out
 # The scene writes its event log to out/sphere-squeeze.lcmlog.
 ./build/tools/sculpt run scenes/sphere-squeeze.toml --duration 5 --quiet \
   --out out/sphere_sculpted.ply --json out/sphere_sculpted.json
-echo "main: the sculpted model is out/sphere_sculpted.ply, its log out/sphere-squeeze.lcmlog, the summary out/sphere_sculpted.json"
+# Pictures of the result, headless (OSMesa): the sphere before and after from the thumb's side,
+# and both from each finger's side coloured by how far each point moved, with the session's
+# fingertip paths, probes and force arrows (drawn 3x long: the press is 8% of the radius).
+sphere_view=(--up z --azimuth 90 --elevation 10)
+./build/tools/sculpt render data/sphere_3203.ply --out out/sphere_before.png "${sphere_view[@]}" --size 640x560
+./build/tools/sculpt render out/sphere_sculpted.ply --out out/sphere_after.png "${sphere_view[@]}" --size 640x560
+./build/tools/sculpt render out/sphere_sculpted.ply --compare data/sphere_3203.ply --log out/sphere-squeeze.lcmlog \
+  --arrow-scale 3 --views 3 "${sphere_view[@]}" --size 400x360 --out out/sphere_compare.png
+echo "main: the sculpted model is out/sphere_sculpted.ply, its log out/sphere-squeeze.lcmlog, the summary out/sphere_sculpted.json, pictures out/sphere_{before,after,compare}.png"

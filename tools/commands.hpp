@@ -29,5 +29,6 @@ std::unique_ptr<Command> add_run_command(CLI::App& app);
 std::unique_ptr<Command> add_glove_sim_command(CLI::App& app);
 std::unique_ptr<Command> add_replay_command(CLI::App& app);
 std::unique_ptr<Command> add_check_command(CLI::App& app);
+std::unique_ptr<Command> add_render_command(CLI::App& app);
 
 }  // namespace sculpt::tools

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   commands.push_back(add_glove_sim_command(app));
   commands.push_back(add_replay_command(app));
   commands.push_back(add_check_command(app));
+  commands.push_back(add_render_command(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,120 @@
+// sculpt render as a user runs it: the real binary, its exit codes, one-line errors and the
+// pictures it writes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hil/child_process.hpp"
+#include "render/png_reader.hpp"
+#include "sculpt/deform/generators.hpp"
+#include "sculpt/deform/model_io.hpp"
+
+namespace sculpt::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandResult {
+  int status = -1;
+  std::string output;
+};
+
+class RenderCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() /
+              ("sculpt_render_cli_" + std::to_string(getpid()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+    sphere_ = path("sphere.ply");
+    deform::write_model(sphere_, deform::make_sphere(2000, 1.0));
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+
+  CommandResult run(std::vector<std::string> args) const {
+    args.insert(args.begin(), {SCULPT_BINARY, "render"});
+    const std::string log = path("output.txt");
+    ChildProcess child(args, log);
+    CommandResult r;
+    r.status = child.wait(std::chrono::seconds(60));
+    std::ifstream file(log);
+    std::stringstream text;
+    text << file.rdbuf();
+    r.output = text.str();
+    return r;
+  }
+
+  static void expect_one_line_error(const CommandResult& r, int status, const std::string& part) {
+    EXPECT_EQ(r.status, status) << r.output;
+    EXPECT_EQ(r.output.rfind("sculpt render: error: ", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find(part), std::string::npos) << r.output;
+  }
+
+  fs::path folder_;
+  std::string sphere_;
+};
+
+TEST_F(RenderCommand, WritesAPictureOfTheModel) {
+  const std::string out = path("sphere.png");
+  const CommandResult r = run({sphere_, "--out", out, "--size", "96x80"});
+  ASSERT_EQ(r.status, 0) << r.output;
+  const render::Image image = read_png(out);
+  ASSERT_EQ(image.width, 96);
+  ASSERT_EQ(image.height, 80);
+  const std::uint8_t* corner = image.at(0, 0);
+  const std::uint8_t* centre = image.at(48, 40);
+  EXPECT_NE(std::vector<int>(corner, corner + 3), std::vector<int>(centre, centre + 3)) << "the sphere is in the middle";
+}
+
+TEST_F(RenderCommand, ComparesAndMakesRowsOfViews) {
+  deform::PointModel moved = deform::read_model(sphere_);
+  moved.set_position(0, moved.position(0) * 0.9);
+  const std::string after = path("after.ply");
+  deform::write_model(after, moved);
+  const CommandResult compare = run({after, "--compare", sphere_, "--out", path("compare.png"), "--size", "64x64"});
+  ASSERT_EQ(compare.status, 0) << compare.output;
+  EXPECT_NE(compare.output.find("largest displacement 0.1 model units"), std::string::npos) << compare.output;
+  EXPECT_GT(read_png(path("compare.png")).width, 128);  // before, after and the colour bar
+  const CommandResult views = run({sphere_, "--views", "3", "--out", path("views.png"), "--size", "64x48"});
+  ASSERT_EQ(views.status, 0) << views.output;
+  const render::Image row = read_png(path("views.png"));
+  EXPECT_EQ(row.width, 3 * 64);
+  EXPECT_EQ(row.height, 48);
+}
+
+TEST_F(RenderCommand, BadArgumentsAreExitTwoBeforeAnythingIsRead) {
+  // The model does not exist: these must fail on the argument, not on the file.
+  const std::string missing = path("missing.ply");
+  expect_one_line_error(run({missing, "--out", path("x.jpg")}), 2, "name it .png");
+  expect_one_line_error(run({missing, "--out", path("no/such/folder/x.png")}), 2, "does not exist");
+  expect_one_line_error(run({missing, "--out", path("x.png"), "--size", "100"}), 2, "--size");
+  expect_one_line_error(run({missing, "--out", path("x.png"), "--size", "8x8"}), 2, "--size");
+  expect_one_line_error(run({missing, "--out", path("x.png"), "--view", "0,0,0"}), 2, "--view");
+  expect_one_line_error(run({missing, "--out", folder_.string() + "/.png"}), 2, ".png");
+  EXPECT_EQ(run({missing, "--out", path("x.png"), "--views", "0"}).status, 2);
+  EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+TEST_F(RenderCommand, UnreadableInputIsExitOneAndModelsOfDifferentSizesExitTwo) {
+  expect_one_line_error(run({path("missing.ply"), "--out", path("x.png")}), 1, "missing.ply");
+  expect_one_line_error(run({sphere_, "--log", path("missing.lcmlog"), "--out", path("x.png")}), 1, "missing.lcmlog");
+  const std::string other = path("other.ply");
+  deform::write_model(other, deform::make_sphere(1999, 1.0));
+  expect_one_line_error(run({sphere_, "--compare", other, "--out", path("x.png")}), 2, "1999 points");
+  // Every point in one place: readable, but nothing to draw (no length scale for splats).
+  deform::PointModel stack;
+  for (int i = 0; i < 5; ++i) stack.push_back({1.0, 2.0, 3.0});
+  const std::string stacked = path("stacked.xyz");
+  deform::write_model(stacked, stack);
+  expect_one_line_error(run({stacked, "--out", path("x.png")}), 1, "coincide");
+  EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+}  // namespace
+}  // namespace sculpt::test

@@ -1,0 +1,263 @@
+// sculpt render: a picture of a model, headless (OSMesa), as PNG. With --compare, the model
+// beside its earlier version and coloured by how far each point moved; with --log, the probes
+// and force arrows of a recorded session drawn over it; with --views, a row of views around it.
+#include <CLI/CLI.hpp>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <stdexcept>
+
+#include "commands.hpp"
+#include "sculpt/deform/model_io.hpp"
+#include "sculpt/render/picture.hpp"
+#include "sculpt/render/png_file.hpp"
+#include "vector_argument.hpp"
+#if SCULPT_HAS_LCM
+#include "sculpt/logging/channels.hpp"
+#include "sculpt/logging/event_log_reader.hpp"
+#include "sculpt/logging/records.hpp"
+#endif
+
+namespace sculpt::tools {
+namespace {
+
+constexpr int kMinEdge = 16;
+constexpr int kMaxEdge = 4096;
+
+// One colour per finger (thumb .. little), strong enough to read on the clay and on the heat map.
+constexpr std::array<render::Rgb, 5> kFingerColors{{{0.90, 0.20, 0.55},
+                                                     {0.15, 0.45, 0.95},
+                                                     {0.10, 0.70, 0.35},
+                                                     {0.60, 0.30, 0.85},
+                                                     {0.95, 0.55, 0.05}}};
+
+render::Rgb finger_color(int finger) { return kFingerColors[static_cast<std::size_t>(finger) % kFingerColors.size()]; }
+
+// "WxH" with both in [kMinEdge, kMaxEdge].
+bool parse_size(const std::string& text, int& width, int& height, std::string& error) {
+  const std::size_t x = text.find_first_of("xX");
+  auto number = [](std::string_view s, int& out) {
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+    return ec == std::errc() && end == s.data() + s.size() && !s.empty();
+  };
+  if (x == std::string::npos || !number(std::string_view(text).substr(0, x), width) ||
+      !number(std::string_view(text).substr(x + 1), height)) {
+    error = "'" + text + "' is not WIDTHxHEIGHT in pixels";
+    return false;
+  }
+  if (width < kMinEdge || height < kMinEdge || width > kMaxEdge || height > kMaxEdge) {
+    error = "each side must be " + std::to_string(kMinEdge) + " to " + std::to_string(kMaxEdge) + " pixels, got " + text;
+    return false;
+  }
+  return true;
+}
+
+// The picture is written last, after seconds of rendering: a typo in its name or folder should
+// cost nothing, so it is checked first.
+void check_output_path(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (extension != ".png") throw std::invalid_argument("--out " + path + ": the picture is written as PNG; name it .png");
+  std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  struct stat info {};
+  if (stat(folder.c_str(), &info) != 0 || !S_ISDIR(info.st_mode)) {
+    throw std::invalid_argument("--out " + path + ": folder " + folder.string() + " does not exist");
+  }
+  // The file is replaced by a rename inside its folder, so the folder must be writable.
+  if (access(folder.c_str(), W_OK | X_OK) != 0) {
+    throw std::invalid_argument("--out " + path + ": folder " + folder.string() + " is not writable");
+  }
+  if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
+    throw std::invalid_argument("--out " + path + " is a folder");
+  }
+}
+
+#if SCULPT_HAS_LCM
+struct SessionOverlay {
+  render::Overlay overlay;
+  std::size_t collisions = 0;
+  std::size_t fingertips = 0;
+  std::size_t skipped = 0;
+};
+
+// The session as pictures: each fingertip's path in the model frame, and for each collision its
+// probe (a dot) and the force F = P_f - A as an arrow from the contact point A toward the probe,
+// `arrow_scale` times its length (a press of a few percent of the model is hard to see at 1).
+SessionOverlay read_session_overlay(const std::string& path, double arrow_scale) {
+  SessionOverlay session;
+  std::map<std::pair<int, int>, render::Polyline> paths;  // by (hand, finger)
+  logging::EventLogReader reader(path);
+  logging::LogEvent event;
+  for (;;) {
+    const auto result = reader.next(event);
+    if (result == logging::EventLogReader::Result::kEnd) break;
+    if (result == logging::EventLogReader::Result::kCorrupt) {
+      std::fprintf(stderr, "skipped  %s\n", reader.error().c_str());
+      ++session.skipped;
+      continue;
+    }
+    std::string error;
+    if (event.channel == logging::kFingertipChannel) {
+      sculpt_lcm::fingertip_state_t tip;
+      if (!logging::decode(event, tip, error)) {
+        std::fprintf(stderr, "skipped  %s\n", error.c_str());
+        ++session.skipped;
+        continue;
+      }
+      const render::Vec3 p{tip.registered[0], tip.registered[1], tip.registered[2]};
+      if (!deform::is_finite(p)) continue;
+      render::Polyline& line = paths[{tip.hand, tip.finger}];
+      if (line.points.empty()) {
+        const render::Rgb c = finger_color(tip.finger);
+        line.color = {0.5 + 0.5 * c.r, 0.5 + 0.5 * c.g, 0.5 + 0.5 * c.b};  // paler than its probes
+      }
+      line.points.push_back(p);
+      ++session.fingertips;
+    } else if (event.channel == logging::kCollisionChannel) {
+      sculpt_lcm::collision_event_t message;
+      logging::CollisionRecord c;
+      if (!logging::decode(event, message, error) || !logging::from_lcm(message, c)) {
+        std::fprintf(stderr, "skipped  %s\n",
+                     error.empty() ? (path + ": byte offset " + std::to_string(event.offset) +
+                                      ": SCULPT_COLLISION event with invalid fields").c_str()
+                                   : error.c_str());
+        ++session.skipped;
+        continue;
+      }
+      const render::Vec3 contact{c.contact[0], c.contact[1], c.contact[2]};
+      const render::Vec3 force{c.force[0], c.force[1], c.force[2]};
+      const render::Rgb color = finger_color(c.finger);
+      session.overlay.arrows.push_back({contact, contact + arrow_scale * force, color});
+      session.overlay.markers.push_back({{c.probe[0], c.probe[1], c.probe[2]}, color, 7.0});
+      ++session.collisions;
+    }
+  }
+  for (auto& [finger, line] : paths) session.overlay.paths.push_back(std::move(line));
+  return session;
+}
+#endif
+
+class RenderCommand final : public Command {
+ public:
+  explicit RenderCommand(CLI::App& app) {
+    sub_ = app.add_subcommand("render", "Draw a model to a PNG picture, headless (OSMesa)");
+    sub_->add_option("model", model_path_, "Model to draw (.ply, .off or .xyz)")->required();
+    sub_->add_option("--out", out_path_, "Write the picture here (.png)")->required();
+    sub_->add_option("--compare", before_path_,
+                     "Earlier version of the model (same points): draw both, the model coloured by displacement");
+    sub_->add_option("--log", log_path_, "Event log of a session (sculpt run): draw its probes and force arrows");
+    sub_->add_option("--arrow-scale", arrow_scale_, "With --log: draw each force arrow this many times its length")
+        ->check(CLI::PositiveNumber)->default_val(1.0);
+    sub_->add_option("--views", views_, "A row of this many views around the model")->check(CLI::Range(1, 36));
+    sub_->add_option("--azimuth", request_.azimuth_deg, "Degrees about the up axis, 0 = front")->default_val(30.0);
+    sub_->add_option("--elevation", request_.elevation_deg, "Degrees above the horizon")
+        ->check(CLI::Range(-90.0, 90.0))->default_val(20.0);
+    view_option_ = sub_->add_option("--view", view_text_, "DX,DY,DZ: look along this direction (instead of the angles)");
+    sub_->add_option("--up", up_, "The model's up axis: x | y | z")->check(CLI::IsMember({"x", "y", "z"}))->default_val("y");
+    sub_->add_option("--size", size_text_, "WxH of each view, in pixels")->default_val("800x600");
+  }
+
+  bool chosen() const override { return sub_->parsed(); }
+
+  int run() override {
+    try {
+      std::string error;
+      if (!parse_size(size_text_, request_.view_width, request_.view_height, error)) {
+        throw std::invalid_argument("--size: " + error);
+      }
+      if (view_option_->count()) {
+        request_.look = parse_vec3(view_text_, error);
+        if (!request_.look) throw std::invalid_argument("--view: " + error);
+        if (deform::squared_norm(*request_.look) == 0.0) throw std::invalid_argument("--view: the direction is zero");
+      }
+      request_.views = views_;
+      request_.up = up_ == "x" ? render::UpAxis::kX : up_ == "z" ? render::UpAxis::kZ : render::UpAxis::kY;
+      check_output_path(out_path_);
+#if !SCULPT_HAS_LCM
+      if (!log_path_.empty()) {
+        std::cerr << "sculpt render: error: --log needs LCM; reconfigure with -DSCULPT_WITH_LCM=ON\n";
+        return kExitUsage;
+      }
+#endif
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "sculpt render: error: " << e.what() << "\n";
+      return kExitUsage;
+    }
+
+    try {
+      return render();
+    } catch (const std::exception& e) {  // unreadable input, nothing to draw, no OpenGL context, unwritable picture
+      std::cerr << "sculpt render: error: " << e.what() << "\n";
+      return kExitFailure;
+    }
+  }
+
+ private:
+  int render() {
+    const auto start = std::chrono::steady_clock::now();
+    const deform::PointModel model = read_and_check(model_path_);
+    std::optional<deform::PointModel> before;
+    if (!before_path_.empty()) {
+      before = read_and_check(before_path_);
+      // Two readable files that do not belong together: the arguments are wrong, not the files.
+      if (before->size() != model.size()) {
+        std::cerr << "sculpt render: error: --compare " << before_path_ << " has " << before->size() << " points and "
+                  << model_path_ << " " << model.size()
+                  << "; the heat map pairs points by index, so both must be versions of one model\n";
+        return kExitUsage;
+      }
+    }
+#if SCULPT_HAS_LCM
+    if (!log_path_.empty()) {
+      SessionOverlay session = read_session_overlay(log_path_, arrow_scale_);
+      std::printf("log      %s: %zu collision events, %zu fingertip states%s\n", log_path_.c_str(),
+                  session.collisions, session.fingertips,
+                  session.skipped ? (", " + std::to_string(session.skipped) + " skipped").c_str() : "");
+      request_.overlay = std::move(session.overlay);
+    }
+#endif
+    render::PictureInfo info;
+    const render::Image picture = render::render_picture(model, before ? &*before : nullptr, request_, &info);
+    render::write_png(out_path_, picture);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const char* drawn = !model.triangles.empty()                  ? "drawn as faces"
+                        : before && !before->triangles.empty() ? "drawn with the faces of --compare's model"
+                                                               : "drawn as splats";
+    std::printf("model    %s: %zu points, %s\n", model_path_.c_str(), model.size(), drawn);
+    if (before) std::printf("compare  %s: largest displacement %.4g model units\n", before_path_.c_str(), info.max_displacement);
+    std::printf("wrote    %s: %dx%d (%d x %d views), %.0f ms\n", out_path_.c_str(), picture.width, picture.height,
+                info.rows, info.columns, ms);
+    return kExitOk;
+  }
+
+  // A model with no points, or whose points all coincide, has nothing to draw: the fault is
+  // the file's, so it is reported as the file's (exit 1), not as an argument.
+  static deform::PointModel read_and_check(const std::string& path) {
+    deform::PointModel model = deform::read_model(path);
+    if (model.empty()) throw deform::ModelFileError(path, "", "the model has no points to draw");
+    return model;
+  }
+
+  CLI::App* sub_ = nullptr;
+  CLI::Option* view_option_ = nullptr;
+  std::string model_path_, out_path_, before_path_, log_path_, view_text_, up_, size_text_;
+  int views_ = 1;
+  double arrow_scale_ = 1.0;
+  render::PictureRequest request_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_render_command(CLI::App& app) { return std::make_unique<RenderCommand>(app); }
+
+}  // namespace sculpt::tools
