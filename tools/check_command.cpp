@@ -13,6 +13,7 @@
 #include "check/case_run.hpp"
 #include "check/check_cases.hpp"
 #include "commands.hpp"
+#include "json_report.hpp"
 #include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
 
@@ -147,12 +148,12 @@ class CheckCommand final : public Command {
       out_cases.push_back(case_json(r));
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(table, "%zu cases, %zu failed, %zu skipped, %.1f s; worst invariant deviation %.2g (single frames, "
+    std::fprintf(table, "%zu cases, %zu failed, %zu skipped, %.3g s; worst invariant deviation %.2g (single frames, "
                  "tolerance %.0e), %.2g (strokes, tolerance %.0e)\n",
                  cases.size(), failed, skipped, seconds, worst_single, tolerances.single_frame, worst_stroke,
                  tolerances.stroke);
     if (!json_path_.empty()) {
-      const json doc = {{"cases", out_cases},
+      json doc = {{"cases", out_cases},
                         {"summary",
                          {{"quick", quick_},
                           {"cases", cases.size()},
@@ -166,6 +167,7 @@ class CheckCommand final : public Command {
                             {"stroke", tolerances.stroke},
                             {"max_displacement_ratio", tolerances.max_displacement_ratio}}},
                           {"worst_deviation", {{"single_frame", worst_single}, {"stroke", worst_stroke}}}}}};
+      stamp_summary(doc);
       if (json_path_ == "-") {
         std::cout << doc.dump(2) << "\n";
       } else {
