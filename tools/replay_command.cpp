@@ -294,11 +294,17 @@ class ReplayCommand final : public Command {
       } else if (const Damage* tail = log.tail_damage(); whole.cut_at_end || tail) {
         // The normal end of a crashed session: a partial last event, or a frame whose last
         // events were never written.
-        const std::uint64_t at = whole.cut_at_end ? log.collision_offsets[whole.events] : tail->offset;
-        report["cut"] = {{"offset", at},
-                         {"incomplete_frame", whole.cut_at_end ? nlohmann::json(events[whole.events].frame_id)
-                                                               : nlohmann::json(nullptr)},
-                         {"events_left_out", events.size() - whole.events}};
+        // The cut is where the last partial event begins, or the end of the file when the log
+        // ends between two events of a frame.
+        const std::uint64_t at = tail ? tail->offset : log.size;
+        nlohmann::json incomplete = nullptr;
+        if (whole.cut_at_end) {
+          incomplete = {{"frame", events[whole.events].frame_id},
+                        {"offset", log.collision_offsets[whole.events]},
+                        {"events", events.size() - whole.events},
+                        {"frame_size", events[whole.events].frame_size}};
+        }
+        report["cut"] = {{"offset", at}, {"incomplete_frame", incomplete}};
         std::fprintf(stderr, "cut      %s ends at byte offset %llu (a crash or power cut): its %zu complete frames apply\n",
                      log_path_.c_str(), static_cast<unsigned long long>(at), whole.frames);
       }
