@@ -76,17 +76,18 @@ WholeFrames whole_frames_in(const fs::path& path) {
   return w;
 }
 
+// A folder of the test's own, kept when it fails so the logs can be looked at.
 class CrashRecovery : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("sculpt-crash-" + std::to_string(getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  CrashRecovery()
+      : dir_(fs::temp_directory_path() / ("sculpt-crash-" + std::to_string(getpid()) + "-" +
+                                          ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
     fs::create_directories(dir_);
   }
-  void TearDown() override {
+  ~CrashRecovery() override {
     if (!HasFailure()) fs::remove_all(dir_);
   }
-  fs::path dir_;
+  const fs::path dir_;
 };
 
 // Index, then thumb, slide across a 20,000-point sphere with a small dead band, so nearly every
