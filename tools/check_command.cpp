@@ -83,7 +83,7 @@ void print_line(std::FILE* out, const check::CaseResult& r) {
   std::snprintf(frames, sizeof frames, "%zu/%zu", m.steps, m.frames_applied);
   char devtext[16] = "-";
   if (any_dev) std::snprintf(devtext, sizeof devtext, "%.1e", dev);
-  std::fprintf(out, "%-62s %9s %3u %3u %3u %8.3f %8.2e %8s ", r.spec->name.c_str(), frames, m.non_finite,
+  std::fprintf(out, "%-62s %9s %3u %3u %3u %8.3g %8.2e %8s ", r.spec->name.c_str(), frames, m.non_finite,
                m.probe_inside, m.passed_through, m.min_jacobian, m.max_miss, devtext);
   bool any = false;
   deform::for_each_guard(m.guards, [&](const char* name, std::uint32_t count) {
