@@ -13,6 +13,7 @@
 #include "check/case_run.hpp"
 #include "check/check_cases.hpp"
 #include "commands.hpp"
+#include "json_report.hpp"
 #include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
 
@@ -82,7 +83,7 @@ void print_line(std::FILE* out, const check::CaseResult& r) {
   std::snprintf(frames, sizeof frames, "%zu/%zu", m.steps, m.frames_applied);
   char devtext[16] = "-";
   if (any_dev) std::snprintf(devtext, sizeof devtext, "%.1e", dev);
-  std::fprintf(out, "%-62s %9s %3u %3u %3u %8.3f %8.2e %8s ", r.spec->name.c_str(), frames, m.non_finite,
+  std::fprintf(out, "%-62s %9s %3u %3u %3u %8.3g %8.2e %8s ", r.spec->name.c_str(), frames, m.non_finite,
                m.probe_inside, m.passed_through, m.min_jacobian, m.max_miss, devtext);
   bool any = false;
   deform::for_each_guard(m.guards, [&](const char* name, std::uint32_t count) {
@@ -147,12 +148,12 @@ class CheckCommand final : public Command {
       out_cases.push_back(case_json(r));
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(table, "%zu cases, %zu failed, %zu skipped, %.1f s; worst invariant deviation %.2g (single frames, "
+    std::fprintf(table, "%zu cases, %zu failed, %zu skipped, %.3g s; worst invariant deviation %.2g (single frames, "
                  "tolerance %.0e), %.2g (strokes, tolerance %.0e)\n",
                  cases.size(), failed, skipped, seconds, worst_single, tolerances.single_frame, worst_stroke,
                  tolerances.stroke);
     if (!json_path_.empty()) {
-      const json doc = {{"cases", out_cases},
+      json doc = {{"cases", out_cases},
                         {"summary",
                          {{"quick", quick_},
                           {"cases", cases.size()},
@@ -166,6 +167,7 @@ class CheckCommand final : public Command {
                             {"stroke", tolerances.stroke},
                             {"max_displacement_ratio", tolerances.max_displacement_ratio}}},
                           {"worst_deviation", {{"single_frame", worst_single}, {"stroke", worst_stroke}}}}}};
+      stamp_summary(doc);
       if (json_path_ == "-") {
         std::cout << doc.dump(2) << "\n";
       } else {

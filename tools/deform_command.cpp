@@ -10,7 +10,7 @@
 
 #include "bad_normals_option.hpp"
 #include "commands.hpp"
-#include "sculpt/deform/atomic_file.hpp"
+#include "json_report.hpp"
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
@@ -83,13 +83,14 @@ class DeformCommand final : public Command {
     sub_->add_flag("--double", use_double_, "Evaluate the per-point loop in double instead of float");
     sub_->add_option("--encoding", encoding_, "ascii | binary | binary_big_endian for a .ply output")
         ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))->default_val("binary");
-    sub_->add_option("--json", json_path_, "Also write the report as JSON here");
+    sub_->add_option("--json", json_path_, "Also write the report as JSON here ('-' for stdout)");
     bad_normals_.add_to(*sub_);
   }
 
   bool chosen() const override { return sub_->parsed(); }
 
   int run() override {
+    if (json_path_ == "-") reserve_stdout_for_json();
     deform::DeformSettings settings;
     std::vector<deform::ProbeMotion> probes;
     std::optional<Vec3> reference;
@@ -203,7 +204,8 @@ class DeformCommand final : public Command {
     json["normals_checked"] = bad_normals_.to_json(normal_report);
     json["faces"] = model.triangles.size() / 3;
     print_summary(model, settings, normals_source, spacing, report, frame_ms);
-    if (!json_path_.empty()) deform::write_file_atomically(json_path_, json.dump(2) + "\n");
+    stamp_summary(json);
+    if (!json_path_.empty()) write_json(json_path_, json);
     return kExitOk;
   }
 
@@ -256,7 +258,9 @@ class DeformCommand final : public Command {
                   {"rank", r.solve.rank},
                   {"residual", r.solve.residual},
                   {"relative_residual", r.solve.relative_residual},
-                  {"condition", std::isfinite(r.solve.condition) ? json(r.solve.condition) : json("inf")},
+                  // JSON has no infinity: a rank-deficient solve is null beside a flag.
+                  {"condition", std::isfinite(r.solve.condition) ? json(r.solve.condition) : json(nullptr)},
+                  {"rank_deficient", !std::isfinite(r.solve.condition)},
                   {"effective_condition", r.solve.effective_condition},
                   {"damped", r.solve.damped}};
     json contacts = json::array();
@@ -283,6 +287,7 @@ class DeformCommand final : public Command {
         entry["residual"] = r.solve.residual;
         entry["relative_residual"] = r.solve.relative_residual;
         entry["condition"] = solve["condition"];
+        entry["rank_deficient"] = solve["rank_deficient"];
         if (c.has_traction) {
           entry["traction"] = to_json(c.traction);
           entry["traction_resultant"] = to_json(c.traction_resultant);
@@ -354,7 +359,7 @@ class DeformCommand final : public Command {
                   r.solve.rows, r.solve.unknowns, r.solve.rank, r.solve.residual, r.solve.relative_residual,
                   r.solve.condition, r.solve.effective_condition, r.solve.damped ? ", damped" : "");
     }
-    std::printf("result   %zu collision(s), %zu points moved, max displacement %.4g, band/contact %.3g, frame %.3f ms\n",
+    std::printf("result   %zu collision(s), %zu points moved, max displacement %.4g, band/contact %.3g, frame %.3g ms\n",
                 r.collisions, r.region_points, r.max_displacement,
                 r.max_contact_displacement > 0 ? r.max_border_displacement / r.max_contact_displacement : 0.0, frame_ms);
     std::printf("guards   min det(I + grad u) %.4g, miss %.4g%s;", r.min_jacobian, r.max_miss,

@@ -10,10 +10,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <vector>
 
 #include "bad_normals_option.hpp"
 #include "commands.hpp"
-#include "sculpt/deform/atomic_file.hpp"
+#include "json_report.hpp"
+#include "output_paths.hpp"
+#include "sculpt/deform/model_identity.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/normals.hpp"
 #if SCULPT_HAS_LCM
@@ -21,9 +27,13 @@
 #include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/logging/records.hpp"
+#include "sculpt/rt/lcm_session_header.hpp"
+#include "sculpt/rt/log_edit.hpp"
 #include "sculpt/rt/reduced_model.hpp"
 #include "sculpt/rt/replay_glove_source.hpp"
 #include "sculpt/rt/scene.hpp"
+#include "sculpt/rt/session_header.hpp"
+#include "sculpt/rt/session_recorder.hpp"
 #include "sculpt/rt/station_setup.hpp"
 #include "sculpt/rt/transfer.hpp"
 #endif
@@ -32,55 +42,107 @@ namespace sculpt::tools {
 namespace {
 
 #if SCULPT_HAS_LCM
-struct SessionLog {
-  std::vector<logging::CollisionRecord> collisions;
-  std::vector<hal::GloveSample> samples;
-  std::size_t events = 0;
-  std::vector<std::string> skipped;  // what was passed over, with byte offsets
-  std::uint64_t skipped_bytes = 0;
+// Bytes that are not a valid event, or an event that does not decode, and where.
+struct Damage {
+  std::uint64_t offset = 0;
+  std::string what;                // "<path>: byte offset N: ..."
+  std::size_t collisions_before = 0;  // collision events read before it
+  std::size_t events_before = 0;      // valid events read before it
 };
 
-// Reads everything replay needs, going on past what it cannot use and saying what that was.
+struct SessionLog {
+  std::optional<rt::SessionHeader> header;
+  std::vector<logging::CollisionRecord> collisions;
+  std::vector<std::uint64_t> collision_offsets;  // byte offset of each collision event
+  std::vector<hal::GloveSample> samples;
+  std::size_t events = 0;
+  std::vector<Damage> damage;  // in file order
+  std::uint64_t skipped_bytes = 0;
+  std::uint64_t size = 0;
+
+  // Damage followed by a valid event: inside the log, not the cut a crash leaves at its end.
+  const Damage* first_inner_damage() const {
+    for (const Damage& d : damage) {
+      if (d.events_before < events) return &d;
+    }
+    return nullptr;
+  }
+  // Where the cut at the end begins: the first damage no valid event follows.
+  const Damage* tail_damage() const {
+    for (const Damage& d : damage) {
+      if (d.events_before == events) return &d;
+    }
+    return nullptr;
+  }
+};
+
+// Reads everything replay needs, going on past what it cannot use and saying where that was.
 SessionLog read_session(const std::string& path) {
   SessionLog log;
   logging::EventLogReader reader(path);
+  log.size = reader.file_size();
   logging::LogEvent event;
+  const auto damaged = [&](std::uint64_t offset, std::string what) {
+    log.damage.push_back({offset, std::move(what), log.collisions.size(), log.events});
+  };
   for (;;) {
     const auto result = reader.next(event);
     if (result == logging::EventLogReader::Result::kEnd) break;
     if (result == logging::EventLogReader::Result::kCorrupt) {
-      log.skipped.push_back(reader.error());
+      damaged(reader.error_offset(), reader.error());
       continue;
     }
-    ++log.events;
+    const std::string where = path + ": byte offset " + std::to_string(event.offset) + ": ";
     std::string error;
-    if (event.channel == logging::kCollisionChannel) {
+    if (event.channel == logging::kSessionChannel) {
+      sculpt_lcm::session_header_t message;
+      rt::SessionHeader header;
+      if (log.events != 0) {
+        damaged(event.offset, where + "a session header after the log's first event");
+        continue;
+      }
+      if (!logging::decode(event, message, error) || !rt::from_lcm(message, header, error)) {
+        damaged(event.offset, where + error);
+        continue;
+      }
+      log.header = std::move(header);
+    } else if (event.channel == logging::kCollisionChannel) {
       sculpt_lcm::collision_event_t message;
       logging::CollisionRecord record;
       if (!logging::decode(event, message, error)) {
-        log.skipped.push_back(error);
-      } else if (!logging::from_lcm(message, record)) {
-        log.skipped.push_back(path + ": byte offset " + std::to_string(event.offset) +
-                              ": SCULPT_COLLISION event with invalid fields");
-      } else {
-        log.collisions.push_back(record);
+        damaged(event.offset, where + error);
+        continue;
       }
+      if (!logging::from_lcm(message, record)) {
+        damaged(event.offset, where + "SCULPT_COLLISION event with invalid fields");
+        continue;
+      }
+      log.collisions.push_back(record);
+      log.collision_offsets.push_back(event.offset);
     } else if (event.channel == logging::kGloveChannel) {
       sculpt_lcm::glove_sample_t message;
       hal::GloveSample sample;
       if (!logging::decode(event, message, error)) {
-        log.skipped.push_back(error);
-      } else if (!hal::from_lcm(message, sample)) {
-        log.skipped.push_back(path + ": byte offset " + std::to_string(event.offset) +
-                              ": SCULPT_GLOVE event with invalid fields");
-      } else {
-        sample.receive_time_ns = message.utime * 1000;  // the log's time base
-        log.samples.push_back(sample);
+        damaged(event.offset, where + error);
+        continue;
       }
+      if (!hal::from_lcm(message, sample)) {
+        damaged(event.offset, where + "SCULPT_GLOVE event with invalid fields");
+        continue;
+      }
+      sample.receive_time_ns = message.utime * 1000;  // the log's time base
+      log.samples.push_back(sample);
     }
+    ++log.events;
   }
   log.skipped_bytes = reader.skipped_bytes();
   return log;
+}
+
+const char* hand_name(std::uint8_t hand) { return hand == 0 ? "left" : "right"; }
+const char* finger_name(std::uint8_t finger) {
+  static const char* const names[] = {"thumb", "index", "middle", "ring", "little"};
+  return finger < 5 ? names[finger] : "?";
 }
 
 void progress_bar(const char* what, std::size_t done, std::size_t total) {
@@ -97,24 +159,31 @@ class ReplayCommand final : public Command {
   explicit ReplayCommand(CLI::App& app) {
     sub_ = app.add_subcommand("replay", "Play a recorded session back onto a model");
     sub_->add_option("log", log_path_, "Event log written by sculpt run (LCM log format)")->required();
-    sub_->add_option("--model", model_path_, "Model to apply the session to")->required();
+    sub_->add_option("--model", model_path_, "Model to apply the session to (required unless --list)");
     sub_->add_option("--scene", scene_path_, "Scene of the session (needed to re-run the glove samples)");
     sub_->add_option("--mode", mode_, "transfer (apply the collision events) | rerun (glove samples through the station) | both")
         ->check(CLI::IsMember({"transfer", "rerun", "both"}));
-    sub_->add_option("--out", out_path_, "Write the resulting model here");
-    sub_->add_option("--json", json_path_, "Write the report here");
+    sub_->add_option("--out", out_path_, "Write the resulting model here (.ply, .off or .xyz)");
+    sub_->add_option("--json", json_path_, "Write the report here ('-' for stdout)");
+    sub_->add_option("--record", record_path_, "Mode rerun: write the re-run's own durable log here");
+    sub_->add_option("--until-frame", until_frame_, "Apply the collision frames up to and including this frame id");
+    sub_->add_option("--drop-stroke", drop_stroke_, "Leave out this stroke (its number in --list)")
+        ->check(CLI::PositiveNumber);
+    sub_->add_flag("--list", list_, "Print the log's strokes (one finger's touch to release) with their frames");
+    sub_->add_flag("--force", force_, "Apply the log to a model it was not recorded on");
+    sub_->add_flag("--skip-damage", skip_damage_,
+                   "Go on past damage inside the log (the result is then a model no session produced)");
     bad_normals_.add_to(*sub_);
   }
   bool chosen() const override { return sub_->parsed(); }
 
   int run() override {
 #if SCULPT_HAS_LCM
-    if (mode_.empty()) mode_ = scene_path_.empty() ? "transfer" : "both";
-    if (mode_ != "transfer" && scene_path_.empty()) {
-      std::cerr << "sculpt replay: error: --mode " << mode_ << " needs --scene (the session's filter, registration and settings)\n";
-      return kExitUsage;
-    }
+    const bool edits = until_frame_ || drop_stroke_ > 0;
+    if (mode_.empty()) mode_ = scene_path_.empty() || edits ? "transfer" : "both";
     try {
+      check_arguments(edits);
+      if (json_path_ == "-") reserve_stdout_for_json();
       return replay();
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt replay: error: " << e.what() << "\n";
@@ -131,10 +200,165 @@ class ReplayCommand final : public Command {
 
  private:
 #if SCULPT_HAS_LCM
+  // Everything the command line alone can refuse, before any work.
+  void check_arguments(bool edits) {
+    if (list_) return;
+    if (model_path_.empty()) throw std::invalid_argument("--model is required (unless --list)");
+    if (mode_ != "transfer" && scene_path_.empty()) {
+      throw std::invalid_argument("--mode " + mode_ + " needs --scene (the session's filter, registration and settings)");
+    }
+    if (edits && mode_ != "transfer") {
+      throw std::invalid_argument("--until-frame and --drop-stroke edit the collision events: they need --mode transfer");
+    }
+    if (!record_path_.empty() && mode_ != "rerun") throw std::invalid_argument("--record needs --mode rerun");
+    if (!out_path_.empty()) refuse_unwritable_model_format("--out", out_path_);
+    std::vector<NamedPath> inputs = {{"the log", log_path_}, {"the model (--model)", model_path_}};
+    if (!scene_path_.empty()) {
+      inputs.push_back({"the scene (--scene)", scene_path_});
+      inputs.push_back({"the scene's base model", rt::load_scene(scene_path_).model.path});
+    }
+    for (const NamedPath& output : {NamedPath{"--out", out_path_}, NamedPath{"--json", json_path_},
+                                    NamedPath{"--record", record_path_}}) {
+      refuse_output_naming_input(output, inputs);
+    }
+    if (!record_path_.empty()) {
+      refuse_output_naming_input({"--record", record_path_}, std::vector<NamedPath>{{"--out", out_path_}, {"--json", json_path_}});
+    }
+  }
+
+  static SessionLog read_log(const std::string& path) {
+    SessionLog log = read_session(path);
+    if (log.size == 0) throw std::runtime_error(path + ": empty file, not an event log");
+    if (log.events == 0) {
+      throw std::runtime_error(path + ": not an event log: no valid LCM log event in its " + std::to_string(log.size) +
+                               " bytes (" + log.damage.front().what.substr(path.size() + 2) + ")");
+    }
+    return log;
+  }
+
+  int list_strokes(const SessionLog& log) {
+    const std::vector<logging::CollisionRecord> events = recover(log, nullptr);
+    nlohmann::json strokes = nlohmann::json::array();
+    for (const rt::Stroke& s : rt::list_strokes(events)) {
+      std::printf("stroke %-4zu %-5s %-6s  frames %lld-%lld  %zu events\n", s.number, hand_name(s.hand),
+                  finger_name(s.finger), static_cast<long long>(s.first_frame), static_cast<long long>(s.last_frame),
+                  s.events);
+      strokes.push_back({{"stroke", s.number}, {"hand", s.hand}, {"finger", s.finger},
+                         {"first_frame", s.first_frame}, {"last_frame", s.last_frame}, {"events", s.events}});
+    }
+    if (!json_path_.empty()) {
+      nlohmann::json json = {{"log", log_path_}, {"strokes", strokes}};
+      stamp_summary(json);
+      write_json(json_path_, json);
+    }
+    return kExitOk;
+  }
+
+  // The events a crash or damage left whole: every complete frame up to a cut at the end (the
+  // normal case after SIGKILL or a power cut), up to the last complete frame before damage
+  // inside the log, or, with --skip-damage, every complete frame anywhere. Says what it left
+  // out, with byte offsets, in `json` (when given) and on stderr.
+  std::vector<logging::CollisionRecord> recover(const SessionLog& log, nlohmann::json* json) const {
+    const std::span<const logging::CollisionRecord> all(log.collisions);
+    std::span<const logging::CollisionRecord> events = all;
+    std::optional<Damage> stop;  // damage inside the log, where replay stops
+    if (const Damage* inner = log.first_inner_damage()) {
+      stop = *inner;
+      events = events.first(inner->collisions_before);
+    }
+    const rt::WholeFrames whole = rt::whole_frames(events);
+    // A frame with more or fewer events than it says, and more after it, with no damage the
+    // reader saw around it: damage too.
+    if (whole.events < events.size() && !whole.cut_at_end && !stop) {
+      const std::uint64_t at = log.collision_offsets[whole.events];
+      stop = Damage{at, log_path_ + ": byte offset " + std::to_string(at) + ": frame " +
+                            std::to_string(events[whole.events].frame_id) + " has the wrong number of events",
+                    whole.events, 0};
+    }
+    nlohmann::json damage = nlohmann::json::array();
+    for (const Damage& d : log.damage) damage.push_back({{"offset", d.offset}, {"what", d.what}});
+    nlohmann::json report = {{"skip_damage", skip_damage_}, {"damage", damage}, {"cut", nullptr},
+                             {"stopped_at_damage", nullptr}, {"past_damage", false}};
+    std::vector<logging::CollisionRecord> kept;
+    if (stop && skip_damage_) {
+      kept = rt::drop_incomplete_frames(all);
+      report["past_damage"] = true;
+      std::fprintf(stderr, "damage   %s\n         passed over (--skip-damage): the result is a model no session produced\n",
+                   stop->what.c_str());
+    } else {
+      kept.assign(events.begin(), events.begin() + static_cast<std::ptrdiff_t>(whole.events));
+      if (stop) {
+        report["stopped_at_damage"] = {{"offset", stop->offset}, {"what", stop->what}};
+        std::fprintf(stderr, "damage   %s\n         replay stops at the last complete frame before it "
+                     "(--skip-damage goes on past it)\n", stop->what.c_str());
+      } else if (const Damage* tail = log.tail_damage(); whole.cut_at_end || tail) {
+        // The normal end of a crashed session: a partial last event, or a frame whose last
+        // events were never written.
+        // The cut is where the last partial event begins, or the end of the file when the log
+        // ends between two events of a frame.
+        const std::uint64_t at = tail ? tail->offset : log.size;
+        nlohmann::json incomplete = nullptr;
+        if (whole.cut_at_end) {
+          incomplete = {{"frame", events[whole.events].frame_id},
+                        {"offset", log.collision_offsets[whole.events]},
+                        {"events", events.size() - whole.events},
+                        {"frame_size", events[whole.events].frame_size}};
+        }
+        report["cut"] = {{"offset", at}, {"incomplete_frame", incomplete}};
+        std::fprintf(stderr, "cut      %s ends at byte offset %llu (a crash or power cut): its %zu complete frames apply\n",
+                     log_path_.c_str(), static_cast<unsigned long long>(at), whole.frames);
+      }
+    }
+    report["last_frame"] = kept.empty() ? nlohmann::json(nullptr) : nlohmann::json(kept.back().frame_id);
+    if (json) (*json)["recovery"] = report;
+    return kept;
+  }
+
+  // The model check of the session header: the recording model, or a reduced-set session's
+  // full model; anything else only with --force.
+  void check_model(const SessionLog& log, const deform::PointModel& model, nlohmann::json& json) const {
+    const deform::ModelIdentity given = deform::model_identity(model);
+    json["model_identity"] = {{"points", given.points}, {"hash", given.hash}};
+    if (!log.header) {
+      std::fprintf(stderr, "warning  %s has no session header (a log from before headers): the model cannot be checked against it\n",
+                   log_path_.c_str());
+      json["model_match"] = "unchecked (no session header)";
+      return;
+    }
+    const rt::SessionHeader& h = *log.header;
+    json["session"] = {{"version", h.version}, {"scene", h.scene_path},
+                       {"model", {{"points", h.model.points}, {"hash", h.model.hash}}},
+                       {"reduced_ratio", h.full ? nlohmann::json(h.reduced_ratio) : nlohmann::json(nullptr)},
+                       {"full_model", h.full ? nlohmann::json{{"points", h.full->points}, {"hash", h.full->hash}}
+                                             : nlohmann::json(nullptr)}};
+    switch (rt::match_model(h, given)) {
+      case rt::ModelMatch::kRecording:
+        json["model_match"] = "recording";
+        std::printf("model    the recording model (%s)\n", deform::describe(given).c_str());
+        return;
+      case rt::ModelMatch::kFull:
+        json["model_match"] = "full";
+        std::printf("model    the full model of a reduced-set session (ratio %g, recorded on %s): transfer\n",
+                    h.reduced_ratio, deform::describe(h.model).c_str());
+        return;
+      case rt::ModelMatch::kOther:
+        break;
+    }
+    std::string recorded = deform::describe(h.model);
+    if (h.full) recorded += ", or its full model " + deform::describe(*h.full);
+    if (!force_) {
+      throw std::runtime_error(model_path_ + " (" + deform::describe(given) + ") is not the model " + log_path_ +
+                               " was recorded on (" + recorded + "); --force applies it anyway");
+    }
+    json["model_match"] = "other (--force)";
+    std::fprintf(stderr, "warning  %s (%s) is not the model the log was recorded on (%s): applied anyway (--force)\n",
+                 model_path_.c_str(), deform::describe(given).c_str(), recorded.c_str());
+  }
+
   int replay() {
     const auto start = std::chrono::steady_clock::now();
-    const SessionLog log = read_session(log_path_);
-    for (const std::string& s : log.skipped) std::fprintf(stderr, "skipped  %s\n", s.c_str());
+    const SessionLog log = read_log(log_path_);
+    if (list_) return list_strokes(log);
     deform::PointModel base = deform::read_model(model_path_);
     const deform::NormalReport normal_report = bad_normals_.check(base, model_path_);
     nlohmann::json json = {{"log", log_path_},
@@ -146,14 +370,41 @@ class ReplayCommand final : public Command {
                            {"events", log.events},
                            {"collision_events", log.collisions.size()},
                            {"glove_samples", log.samples.size()},
-                           {"skipped", log.skipped},
                            {"skipped_bytes", log.skipped_bytes}};
+    stamp_summary(json);
+    check_model(log, base, json);
+    std::vector<logging::CollisionRecord> events = recover(log, &json);
+    bool produced_by_session = !json["recovery"]["past_damage"].get<bool>();
+    std::vector<std::string> skipped;
+    for (const Damage& d : log.damage) skipped.push_back(d.what);
+    json["skipped"] = skipped;
+    if (drop_stroke_ > 0) {
+      const std::vector<rt::Stroke> strokes = rt::list_strokes(events);
+      if (drop_stroke_ > strokes.size()) {
+        throw std::invalid_argument("--drop-stroke " + std::to_string(drop_stroke_) + ": the log has " +
+                                    std::to_string(strokes.size()) + " strokes (see --list)");
+      }
+      const rt::Stroke& s = strokes[drop_stroke_ - 1];
+      events = rt::drop_stroke(events, s);
+      produced_by_session = false;
+      json["dropped_stroke"] = {{"stroke", s.number}, {"hand", s.hand}, {"finger", s.finger},
+                                {"first_frame", s.first_frame}, {"last_frame", s.last_frame}, {"events", s.events}};
+      std::printf("undo     stroke %zu (%s %s, frames %lld-%lld, %zu events) left out\n", s.number, hand_name(s.hand),
+                  finger_name(s.finger), static_cast<long long>(s.first_frame), static_cast<long long>(s.last_frame),
+                  s.events);
+    }
+    if (until_frame_) {
+      events = rt::until_frame(events, *until_frame_);
+      json["until_frame"] = *until_frame_;
+    }
+    json["produced_by_a_session"] = produced_by_session;
     std::optional<deform::PointModel> transferred, rerun;
     if (mode_ != "rerun") {
       transferred = base;
-      const rt::TransferStats stats = rt::transfer(*transferred, log.collisions,
+      const rt::TransferStats stats = rt::transfer(*transferred, events,
                                                    [](std::size_t d, std::size_t t) { progress_bar("transfer", d, t); });
-      json["transfer"] = {{"frames", stats.frames}, {"events", stats.events}};
+      json["transfer"] = {{"frames", stats.frames}, {"events", stats.events},
+                          {"last_frame", events.empty() ? nlohmann::json(nullptr) : nlohmann::json(events.back().frame_id)}};
       std::printf("transfer %zu frames, %zu collision events onto %zu points\n", stats.frames, stats.events, base.size());
     }
     if (mode_ != "transfer") {
@@ -163,7 +414,7 @@ class ReplayCommand final : public Command {
       const rt::ModelDifference d = rt::compare_models(*rerun, *transferred);
       json["difference"] = {{"mean", d.mean}, {"max", d.max}, {"relative_to", "bounding-box diagonal"},
                             {"mean_percent", 100.0 * d.mean}, {"max_percent", 100.0 * d.max}};
-      std::printf("compare  transfer vs re-run: mean %.4f %%, max %.4f %% of the bounding-box diagonal "
+      std::printf("compare  transfer vs re-run: mean %.4g %%, max %.4g %% of the bounding-box diagonal "
                   "(the thesis measured 0.08 %% to 0.32 %% mean)\n", 100.0 * d.mean, 100.0 * d.max);
     }
     const deform::PointModel& result = transferred ? *transferred : *rerun;
@@ -174,13 +425,13 @@ class ReplayCommand final : public Command {
       std::printf("wrote    %s\n", out_path_.c_str());
     }
     json["time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!json_path_.empty()) deform::write_file_atomically(json_path_, json.dump(2) + "\n");
-    if (!log.skipped.empty()) std::printf("skipped  %zu unreadable events (listed above)\n", log.skipped.size());
+    if (!json_path_.empty()) write_json(json_path_, json);
     return kExitOk;
   }
 
   // Mode a: the logged glove samples through the whole station, in virtual time, so the same
-  // log, scene and model give the same result bit for bit.
+  // log, scene and model give the same result bit for bit. With --record, the re-run writes a
+  // durable log of its own, as a live session would.
   deform::PointModel rerun_session(const SessionLog& log, nlohmann::json& json) {
     rt::Scene scene = rt::load_scene(scene_path_);
     scene.model.path = model_path_;
@@ -190,6 +441,15 @@ class ReplayCommand final : public Command {
     auto source = std::make_unique<rt::ReplayGloveSource>(log.samples);
     rt::ReplayGloveSource* replay = source.get();
     rt::Station station(setup.model, setup.settings, std::move(source), nullptr);
+    std::unique_ptr<rt::SessionRecorder> recorder;
+    if (!record_path_.empty()) {
+      rt::Scene record_scene = scene;
+      record_scene.output.log = record_path_;
+      record_scene.lcm.publish = false;
+      recorder = rt::make_session_recorder(record_scene, rt::session_header(record_scene, setup));
+      station.set_recorder(recorder.get());
+      recorder->start();
+    }
     // The recorded frames' region radii, so an auto region does not depend on this machine's speed.
     // Indexed by frame id: frames that logged nothing (no collision) have no radius (0). A step
     // runs on an accepted glove sample and holds at most 64 frames, which bounds a sane id.
@@ -210,11 +470,18 @@ class ReplayCommand final : public Command {
     std::size_t done = 0;
     for (std::int64_t t = first; t <= end; t += period) {
       replay->set_now(t);
-      station.tick(t, period);
+      const rt::TickReport& report = station.tick(t, period);
+      if (recorder) recorder->tick(report, 0, 0, 0.0);
       if (++done % 1000 == 0 || t + period > end) progress_bar("re-run", done, total);
     }
     json["rerun"] = {{"ticks", station.totals().ticks}, {"frames", station.totals().frames},
                      {"collisions", station.totals().collisions}};
+    if (recorder) {
+      recorder->stop();
+      const rt::RecordingCounts c = recorder->counts();
+      json["rerun"]["record"] = {{"path", record_path_}, {"collisions", c.collisions}, {"dropped", c.log_dropped},
+                                 {"write_errors", c.write_errors}};
+    }
     std::printf("re-run   %llu ticks, %llu frames, %llu collisions on %zu points\n",
                 static_cast<unsigned long long>(station.totals().ticks),
                 static_cast<unsigned long long>(station.totals().frames),
@@ -224,7 +491,10 @@ class ReplayCommand final : public Command {
 #endif
 
   CLI::App* sub_ = nullptr;
-  std::string log_path_, model_path_, scene_path_, mode_, out_path_, json_path_;
+  std::string log_path_, model_path_, scene_path_, mode_, out_path_, json_path_, record_path_;
+  std::optional<std::int64_t> until_frame_;
+  std::size_t drop_stroke_ = 0;
+  bool list_ = false, force_ = false, skip_damage_ = false;
   BadNormalsOption bad_normals_;
 };
 

@@ -11,9 +11,11 @@
 #include <cstdio>
 #include <iostream>
 #include <thread>
+#include <vector>
 
 #include "commands.hpp"
-#include "sculpt/deform/atomic_file.hpp"
+#include "json_report.hpp"
+#include "output_paths.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/normal_check.hpp"
 #include "sculpt/rt/fixed_rate_loop.hpp"
@@ -51,7 +53,7 @@ class RunCommand final : public Command {
     sub_->add_option("--duration", duration_s_, "Stop after this many seconds (default: until SIGINT/SIGTERM)")
         ->check(CLI::PositiveNumber);
     sub_->add_option("--out", out_path_, "Write the final model here (overrides output.model)");
-    sub_->add_option("--json", json_path_, "Write the run summary here (overrides output.json)");
+    sub_->add_option("--json", json_path_, "Write the run summary here (overrides output.json; '-' for stdout)");
     sub_->add_option("--serial", serial_device_, "Read the glove from this serial device (overrides glove.backend)");
     sub_->add_option("--lcm", lcm_url_, "Read the glove from this LCM URL (overrides glove.backend)");
     sub_->add_flag("--quiet", quiet_, "No live status line");
@@ -73,6 +75,22 @@ class RunCommand final : public Command {
     if (!lcm_url_.empty()) {
       scene.glove.config.backend = hal::Backend::kLcm;
       scene.glove.config.lcm.url = lcm_url_;
+    }
+    // Outputs before the session: an unwritable format or an output that names an input would
+    // otherwise only show once the work is done (or has overwritten the scene's model).
+    try {
+      const std::string out = !out_path_.empty() ? out_path_ : scene.output.model.value_or("");
+      const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
+      const std::string log = scene.output.log.value_or("");
+      if (!out.empty()) refuse_unwritable_model_format("--out", out);
+      const std::vector<NamedPath> inputs = {{"the scene", scene_path_}, {"the scene's base model", scene.model.path}};
+      for (const NamedPath& output : {NamedPath{"--out", out}, NamedPath{"--json", json}, NamedPath{"output.log", log}}) {
+        refuse_output_naming_input(output, inputs);
+      }
+      if (json == "-") reserve_stdout_for_json();
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "sculpt run: error: " << e.what() << "\n";
+      return kExitUsage;
     }
     try {
       return run_station(scene);
@@ -119,7 +137,7 @@ class RunCommand final : public Command {
     sigaction(SIGTERM, &action, nullptr);
     g_stop.store(false);
 
-    std::unique_ptr<rt::SessionRecorder> recorder = rt::make_session_recorder(scene);
+    std::unique_ptr<rt::SessionRecorder> recorder = rt::make_session_recorder(scene, rt::session_header(scene, setup));
     station->set_recorder(recorder.get());
     if (recorder) recorder->start();
     station->start();
@@ -142,13 +160,14 @@ class RunCommand final : public Command {
       deform::write_model(out, setup.model);
     }
     nlohmann::json summary = make_summary(*station, loop);
+    stamp_summary(summary);
     if (recorder) summary["recording"] = recording_json(recorder->counts());
     summary["normals_checked"] = {{"zero_or_nonfinite", normals.zero_or_nonfinite},
                                   {"renormalised", normals.renormalised}};
     const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
     if (!json.empty()) {
-      create_parent(json);
-      deform::write_file_atomically(json, summary.dump(2) + "\n");
+      if (json != "-") create_parent(json);
+      write_json(json, summary);
     }
     const rt::StationTotals& t = station->totals();
     std::printf("\nresult   %llu ticks at %.1f Hz, %llu overruns, tick median %.1f us p99 %.1f us max %.1f us\n",

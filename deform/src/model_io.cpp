@@ -42,6 +42,13 @@ PointModel read_model(const std::string& path) {
       path, "", "cannot read models with " + shown_extension(path) + " (use .ply, .off or .xyz)");
 }
 
+void check_model_format(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".ply" || ext == ".off" || ext == ".xyz") return;
+  throw ModelFileError(
+      path, "", "cannot write models with " + shown_extension(path) + " (use .ply, .off or .xyz)");
+}
+
 void write_model(const std::string& path, const PointModel& model, PlyEncoding encoding) {
   const std::string ext = lower_extension(path);
   if (ext == ".ply") {
@@ -51,8 +58,7 @@ void write_model(const std::string& path, const PointModel& model, PlyEncoding e
   } else if (ext == ".xyz") {
     write_xyz(path, model);
   } else {
-    throw ModelFileError(
-        path, "", "cannot write models with " + shown_extension(path) + " (use .ply, .off or .xyz)");
+    check_model_format(path);
   }
 }
 

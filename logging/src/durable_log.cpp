@@ -1,5 +1,6 @@
 #include "sculpt/logging/durable_log.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <system_error>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include <unistd.h>
 
@@ -68,6 +70,31 @@ DurableLog::DurableLog(DurableLogConfig config)
 }
 
 DurableLog::~DurableLog() { stop(); }
+
+void DurableLog::write_session_header(const sculpt_lcm::session_header_t& header) {
+  if (thread_.joinable() || event_number_ != 0 || file_ == nullptr) {
+    throw std::logic_error("DurableLog: '" + config_.path + "': the session header must be its first event, "
+                           "written before start()");
+  }
+  const int size = header.getEncodedSize();
+  std::vector<unsigned char> buffer(static_cast<std::size_t>(std::max(size, 0)));
+  if (size <= 0 || header.encode(buffer.data(), 0, size) != size) {
+    throw std::runtime_error("DurableLog: '" + config_.path + "': cannot encode the session header");
+  }
+  lcm::LogEvent event;
+  event.eventnum = event_number_;
+  event.timestamp = header.utime;
+  event.channel = kSessionChannel;
+  event.datalen = size;
+  event.data = buffer.data();
+  if (file_->writeEvent(&event) != 0) {
+    throw std::runtime_error("DurableLog: '" + config_.path + "': cannot write the session header: " +
+                             std::strerror(errno));
+  }
+  ++event_number_;
+  // On the disk before the first tick: a log cut at any later moment still names its session.
+  flush(true);
+}
 
 void DurableLog::start() {
   if (thread_.joinable()) throw std::runtime_error("DurableLog: '" + config_.path + "' already started");

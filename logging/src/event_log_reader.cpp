@@ -103,6 +103,7 @@ std::string EventLogReader::check(std::uint64_t offset, const Header& header, st
 
 EventLogReader::Result EventLogReader::corrupt(std::string what) {
   error_ = path_ + ": byte offset " + std::to_string(position_) + ": " + what;
+  error_offset_ = position_;
   ++corrupt_events_;
   resync_pending_ = true;
   return Result::kCorrupt;

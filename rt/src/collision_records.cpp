@@ -56,9 +56,13 @@ logging::CollisionRecord contact_record(const deform::ContactReport& c, const Fr
 std::size_t frame_collision_records(const FrameRecord& frame, std::span<logging::CollisionRecord> out) noexcept {
   const deform::FrameReport& report = *frame.report;
   if (report.collisions == 0 || !report.solve.ok) return 0;
-  const bool named = frame.fingers.size() >= report.contacts.size();
+  // The report holds a slot per probe the deformer was sized for, not per probe of this frame:
+  // slots past the frame's probes are left over from earlier frames and name no finger.
+  const std::size_t probes =
+      frame.probes.empty() ? report.contacts.size() : std::min(frame.probes.size(), report.contacts.size());
+  const bool named = frame.fingers.size() >= probes;
   std::size_t written = 0;
-  for (std::size_t k = 0; k < report.contacts.size() && written < out.size(); ++k) {
+  for (std::size_t k = 0; k < probes && written < out.size(); ++k) {
     const deform::ContactReport& c = report.contacts[k];
     if (c.state != deform::ProbeState::kCollided) continue;
     logging::CollisionRecord& r = out[written++];

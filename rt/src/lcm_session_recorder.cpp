@@ -2,6 +2,7 @@
 
 #include "sculpt/rt/collision_records.hpp"
 #include "sculpt/rt/fixed_rate_loop.hpp"
+#include "sculpt/rt/lcm_session_header.hpp"
 #include "sculpt/rt/station.hpp"
 
 namespace sculpt::rt {
@@ -13,12 +14,13 @@ logging::Vec3f f3(const deform::Vec3& v) {
 
 }  // namespace
 
-LcmSessionRecorder::LcmSessionRecorder(const Scene& scene) {
+LcmSessionRecorder::LcmSessionRecorder(const Scene& scene, const std::optional<SessionHeader>& header) {
   if (scene.output.log) {
     logging::DurableLogConfig config;
     config.path = *scene.output.log;
     config.flush_interval = std::chrono::milliseconds(static_cast<long>(scene.output.flush_interval_ms));
     log_ = std::make_unique<logging::DurableLog>(config);
+    if (header) log_->write_session_header(to_lcm(*header, logging::wall_time_us()));
   }
   if (scene.lcm.publish) {
     logging::PublisherConfig config;

@@ -12,7 +12,8 @@ namespace sculpt::rt {
 
 class LcmSessionRecorder final : public SessionRecorder {
  public:
-  explicit LcmSessionRecorder(const Scene& scene);
+  /// Writes `header` (when given) as the log's first event.
+  LcmSessionRecorder(const Scene& scene, const std::optional<SessionHeader>& header);
 
   void start() override;
   void stop() override;

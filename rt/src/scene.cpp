@@ -665,6 +665,7 @@ Scene parse_scene(std::string_view text, const std::string& path_for_errors, con
 
   Scene scene;
   scene.file = path_for_errors;
+  scene.text = std::string(text);
   scene.base_dir = base_dir;
   const Section root(context, &document, "", toml::source_position{1, 1});
   root.allow({"model", "material", "kernel", "deform", "heuristic", "glove", "hand", "filter",

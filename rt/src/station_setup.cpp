@@ -84,6 +84,7 @@ StationSetup prepare_station(const Scene& scene) {
     // Thesis 4.4.1: sculpt a uniform-density subsample interactively; the log's collision events
     // then apply to the full model offline (sculpt replay).
     const std::size_t full = s.model.size();
+    s.full_model = deform::model_identity(s.model);
     s.model = reduced_model(s.model, scene.heuristic.reduced_ratio);
     s.notes.push_back("reduced model set: " + std::to_string(s.model.size()) + " of " + std::to_string(full) +
                       " points (heuristic.reduced_ratio)");

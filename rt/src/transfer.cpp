@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <unordered_set>
@@ -92,8 +93,9 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
         break;
       case RegionKind::kRadius:
         if (!(r.region_radius > 0.0) || !std::isfinite(r.region_radius) || !finite(r.region_centre)) {
-          reject(id, "event " + std::to_string(e) + " has a radius region with radius " +
-                         std::to_string(r.region_radius));
+          char radius[32];
+          std::snprintf(radius, sizeof radius, "%g", r.region_radius);
+          reject(id, "event " + std::to_string(e) + " has a radius region with radius " + radius);
         }
         break;
       case RegionKind::kIndexSet:

@@ -313,6 +313,45 @@ TEST(DurableLog, PeriodicFlushReachesTheFileWithoutStop) {
   log.stop();
 }
 
+TEST(DurableLog, TheSessionHeaderIsTheFirstEventOnDiskBeforeTheThreadStarts) {
+  DurableLogConfig config;
+  config.path = temp_path("header.lcmlog");
+  config.flush_interval = std::chrono::hours(1);
+  DurableLog log(config);
+  sculpt_lcm::session_header_t header{};
+  header.schema = sculpt_lcm::session_header_t::SCHEMA;
+  header.version = "9.9.9";
+  header.scene_text = std::string(5000, 'x');  // longer than any fixed-size record
+  header.model_points = 3203;
+  header.model_hash = -42;
+  header.full_points = 3203;
+  header.full_hash = -42;
+  log.write_session_header(header);
+  EXPECT_THROW(log.write_session_header(header), std::logic_error);  // only as the first event
+  {
+    // Readable before start(): a crash in the first tick still leaves a named log.
+    EventLogReader reader(config.path);
+    LogEvent event;
+    ASSERT_EQ(reader.next(event), EventLogReader::Result::kEvent);
+    EXPECT_EQ(event.channel, kSessionChannel);
+    sculpt_lcm::session_header_t back;
+    std::string error;
+    ASSERT_TRUE(decode(event, back, error)) << error;
+    EXPECT_EQ(back.version, "9.9.9");
+    EXPECT_EQ(back.scene_text.size(), 5000u);
+    EXPECT_EQ(back.model_hash, -42);
+  }
+  log.start();
+  TickRecord tick;
+  ASSERT_TRUE(log.record(tick));
+  log.stop();
+  EventLogReader reader(config.path);
+  LogEvent event;
+  std::vector<std::string> channels;
+  while (reader.next(event) == EventLogReader::Result::kEvent) channels.push_back(event.channel);
+  EXPECT_EQ(channels, (std::vector<std::string>{kSessionChannel, kTickChannel}));
+}
+
 TEST(DurableLog, UnwritablePathThrowsNamingIt) {
   const std::string blocker = temp_path("blocker");
   std::filesystem::create_directories(std::filesystem::path(blocker).parent_path());

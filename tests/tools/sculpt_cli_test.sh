@@ -49,6 +49,8 @@ expect_json "push reports solve" "j['solve']['ok'] and j['solve']['rows'] > 0 an
 expect_json "push moved every point" "j['points_moved'] == 3203 and j['max_displacement'] > 0.03"
 expect_json "push force is F = P_f - A" "abs(j['contacts'][0]['force'][2] - (0.95 - j['contacts'][0]['nearest_point'][2])) < 1e-9"
 expect_json "push reports timing" "j['time_ms']['frame'] > 0"
+expect_json "condition a number or null beside rank_deficient" "isinstance(j['solve']['rank_deficient'], bool) and (j['solve']['condition'] is None) == j['solve']['rank_deficient'] and (j['contacts'][0]['condition'] is None) == j['contacts'][0]['rank_deficient']"
+expect_json "deform summary stamped" "isinstance(j['schema'], int) and isinstance(j['version'], str)"
 expect_exit 0 "deformed file reads back" -- "$SCULPT" deform --model "$work/pushed.ply" --contact 0,0,3:0,0,2.9 --json "$work/report.json"
 expect_json "re-read file has the model's points" "j['points'] == 3203 and j['normals'] == 'file'"
 if grep -q "collision(s)" "$work/out"; then ok "summary printed"; else bad "no summary on stdout"; fi
@@ -288,20 +290,135 @@ if cmp -s "$work/rerun1.ply" "$work/rerun2.ply"; then ok "re-run is bit-identica
 expect_exit 2 "rerun needs a scene" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --mode rerun
 one_line_error "rerun names --scene" "--scene"
 # A corrupt log: playback goes past the damage and says where it was.
-python3 - "$work/sphere-squeeze.lcmlog" "$work/corrupt.lcmlog" <<'PY'
-import sys
+# LCM logs carry no checksum, so the damage must hit what the format can see: the sync word of
+# the event in the middle of the file.
+python3 - "$work/sphere-squeeze.lcmlog" "$work/corrupt.lcmlog" "$work/corrupt.expect" <<'PY'
+import struct, sys
 data = bytearray(open(sys.argv[1], 'rb').read())
-data[len(data) // 2: len(data) // 2 + 4] = b'\x12\x34\x56\x78'   # break something mid-file
+starts, pos = [], 0
+while pos < len(data):
+    _, _, _, cl, dl = struct.unpack('>IqqiI', data[pos:pos + 28])
+    starts.append(pos)
+    pos += 28 + cl + dl
+middle = starts[len(starts) // 2]
+data[middle:middle + 4] = b'\x12\x34\x56\x78'                   # break an event mid-file
 open(sys.argv[2], 'wb').write(bytes(data[:-7]))                    # and cut the tail
+open(sys.argv[3], 'w').write(str(middle))
 PY
 expect_exit 0 "replay a corrupt log" -- "$SCULPT" replay "$work/corrupt.lcmlog" --model "$sphere" --json "$work/report.json"
 expect_json "corruption reported with byte offsets" "len(j['skipped']) >= 1 and all('byte offset' in s for s in j['skipped'])"
+expect_json "replay stopped at the damage, at its offset" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/corrupt.expect") and j['produced_by_a_session']"
+expect_exit 0 "replay past the damage" -- "$SCULPT" replay "$work/corrupt.lcmlog" --model "$sphere" --skip-damage --json "$work/report.json"
+expect_json "past the damage the result is no session's" "j['recovery']['past_damage'] and not j['produced_by_a_session']"
 expect_exit 1 "replay refuses zero normals when asked" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/zero.xyz" --bad-normals refuse
 one_line_error "replay refusal names the vertex" "zero.xyz: vertex 0 has a zero normal"
 expect_exit 0 "replay re-estimates zero normals" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/zero.xyz" --json "$work/report.json"
 expect_json "replay reports the normals it repaired" "j['normals_checked']['zero_or_nonfinite'] == 3203 and j['transfer']['events'] > 0"
 expect_exit 1 "replay a missing log" -- "$SCULPT" replay "$work/nope.lcmlog" --model "$sphere"
 one_line_error "missing log named" "nope.lcmlog"
+# The session header names the model: its point count and FNV-1a 64 over its float positions,
+# computed here from the PLY's own bytes.
+expect_exit 0 "replay reports the model match" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --json "$work/report.json"
+fnv=$(python3 - "$sphere" <<'PY'
+import struct, sys
+data = open(sys.argv[1], 'rb').read()
+end = data.index(b'end_header\n') + len(b'end_header\n')
+header = data[:end].decode().split('\n')
+assert 'format binary_little_endian 1.0' in header
+n = int([l for l in header if l.startswith('element vertex')][0].split()[2])
+props = [l.split()[2] for l in header[header.index([l for l in header if l.startswith('element vertex')][0]) + 1:] if l.startswith('property float')]
+stride = 4 * len(props)  # every vertex property of the bundled sphere is a float
+h = 0xcbf29ce484222325
+for i in range(n):
+    for axis in ('x', 'y', 'z'):
+        off = end + i * stride + 4 * props.index(axis)
+        for b in data[off:off + 4]:
+            h = ((h ^ b) * 0x100000001b3) & 0xffffffffffffffff
+print(h)
+PY
+)
+expect_json "the log was recorded on this model" "j['model_match'] == 'recording' and j['session']['model']['points'] == 3203 and j['session']['model']['hash'] == $fnv and j['model_identity']['hash'] == $fnv"
+expect_json "the header names the version and scene" "j['session']['version'] == j['version'] and j['session']['scene'].endswith('squeeze.toml')"
+expect_json "every summary has a schema and the version" "isinstance(j['schema'], int) and j['version'] == '$(sed -n 's/^project(glovesculpt VERSION \([0-9.]*\).*/\1/p' "$repo/CMakeLists.txt")'"
+expect_exit 0 "sculpt --version" -- "$SCULPT" --version
+if grep -qx "sculpt $(sed -n 's/^project(glovesculpt VERSION \([0-9.]*\).*/\1/p' "$repo/CMakeLists.txt")" "$work/out"; then ok "--version prints the project version"; else bad "--version printed: $(cat "$work/out")"; fi
+expect_exit 2 "mistyped subcommand" -- "$SCULPT" rplay "$work/sphere-squeeze.lcmlog"
+one_line_error "mistyped subcommand: did you mean" "did you mean 'replay'"
+# --json - is the only thing on stdout.
+"$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --json - >"$work/stdout.json" 2>"$work/err"
+if python3 -c "import json; j=json.load(open('$work/stdout.json')); assert j['transfer']['events'] > 0"; then ok "--json - writes the report to stdout"; else bad "--json - stdout is not the report: $(head -c 200 "$work/stdout.json")"; fi
+if [[ ! -e ./- && ! -e "$work/-" ]]; then ok "--json - makes no file named -"; else bad "--json - made a file named -"; fi
+# Refusals, each exit != 0 and one line.
+expect_exit 0 "generate a 500-point sphere" -- "$SCULPT" generate sphere --points 500 --out "$work/sphere500.ply"
+expect_exit 1 "a log for another model" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/sphere500.ply" --out "$work/wrong.ply"
+one_line_error "another model: both identities named" "500 points, hash 0x.*3203 points, hash 0x"
+[[ ! -e "$work/wrong.ply" ]] && ok "nothing written for another model" || bad "another model's result was written"
+expect_exit 0 "another model with --force" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/sphere500.ply" --force --json "$work/report.json"
+expect_json "forced model said so" "j['model_match'].startswith('other')"
+: >"$work/empty.lcmlog"
+expect_exit 1 "an empty log" -- "$SCULPT" replay "$work/empty.lcmlog" --model "$sphere"
+one_line_error "empty log named" "empty.lcmlog: empty file"
+head -c 20000 /dev/urandom >"$work/random.lcmlog"
+expect_exit 1 "random bytes as a log" -- "$SCULPT" replay "$work/random.lcmlog" --model "$sphere"
+one_line_error "random bytes are not a log" "random.lcmlog: not an event log"
+expect_exit 1 "a PLY as a log" -- "$SCULPT" replay "$sphere" --model "$sphere"
+one_line_error "a PLY is not a log" "sphere_3203.ply: not an event log"
+cp "$sphere" "$work/model-copy.ply"
+expect_exit 2 "--out naming --model" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/model-copy.ply" --out "$work/./model-copy.ply"
+one_line_error "--out naming --model refused" "is the model"
+cmp -s "$work/model-copy.ply" "$sphere" && ok "the model is untouched" || bad "--out overwrote the model"
+expect_exit 2 "--json naming the log" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --json "$work/../$(basename "$work")/sphere-squeeze.lcmlog"
+one_line_error "--json naming the log refused" "is the log"
+ln -s "$sphere" "$work/base-link.ply"
+expect_exit 2 "--out naming the scene's base model through a link" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/sphere500.ply" --scene "$work/squeeze.toml" --mode transfer --out "$work/base-link.ply"
+one_line_error "--out naming the scene's base model refused" "the scene's base model"
+expect_exit 2 "replay --out with an unknown format" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/result.obj"
+one_line_error "replay format refused" "result.obj"
+start_s=$(date +%s)
+expect_exit 2 "run --out with an unknown format, before the session" -- "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet --out "$work/result.obj"
+one_line_error "run format refused" "result.obj"
+(( $(date +%s) - start_s < 3 )) && ok "run refused the format before the session" || bad "run ran the session before refusing the format"
+expect_exit 2 "run --out naming the scene's base model" -- "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet --out "$work/base-link.ply"
+one_line_error "run --out naming the base model refused" "the scene's base model"
+# A log cut inside its last event (what SIGKILL leaves): every complete frame, the cut's offset.
+python3 - "$work/sphere-squeeze.lcmlog" "$work/cut.lcmlog" "$work/cut.expect" <<'PY'
+import struct, sys
+data = open(sys.argv[1], 'rb').read()
+starts, pos = [], 0
+while pos < len(data):  # LCM log events: sync, number, time, channel length, data length
+    sync, _, _, cl, dl = struct.unpack('>IqqiI', data[pos:pos + 28])
+    assert sync == 0xEDA1DA01
+    starts.append((pos, data[pos + 28:pos + 28 + cl].decode()))
+    pos += 28 + cl + dl
+# Cut inside the event right after the second collision event, wherever that falls.
+collisions = [s for s, ch in starts if ch == 'SCULPT_COLLISION']
+cut_event = [s for s, ch in starts if s > collisions[1]][0]
+open(sys.argv[2], 'wb').write(data[:cut_event + 17])
+open(sys.argv[3], 'w').write(str(cut_event))
+PY
+expect_exit 0 "replay a cut log" -- "$SCULPT" replay "$work/cut.lcmlog" --model "$sphere" --json "$work/report.json"
+expect_json "the cut is reported at its byte offset" "j['recovery']['cut'] is not None and j['recovery']['cut']['offset'] == $(cat "$work/cut.expect") and j['produced_by_a_session']"
+if grep -q "byte offset $(cat "$work/cut.expect")" "$work/err"; then ok "the cut's offset on stderr"; else bad "no cut offset on stderr: $(cat "$work/err")"; fi
+# An older log, from before the header: accepted with a warning.
+python3 - "$work/sphere-squeeze.lcmlog" "$work/old.lcmlog" <<'PY'
+import struct, sys
+data = open(sys.argv[1], 'rb').read()
+_, _, _, cl, dl = struct.unpack('>IqqiI', data[:28])
+assert data[28:28 + cl] == b'SCULPT_SESSION'
+open(sys.argv[2], 'wb').write(data[28 + cl + dl:])
+PY
+expect_exit 0 "replay a log without a header" -- "$SCULPT" replay "$work/old.lcmlog" --model "$sphere" --out "$work/old.ply" --json "$work/report.json"
+if grep -q "no session header" "$work/err"; then ok "a log without a header is warned about"; else bad "no warning for a log without a header"; fi
+cmp -s "$work/old.ply" "$work/transfer.ply" && ok "a log without a header transfers as before" || bad "the headerless log transferred differently"
+# Undo: the strokes listed, one left out, the frames up to one.
+expect_exit 0 "replay --list" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --list --json "$work/report.json"
+expect_json "strokes listed" "len(j['strokes']) >= 3 and all(s['first_frame'] <= s['last_frame'] for s in j['strokes'])"
+if [[ $(grep -c '^stroke ' "$work/out") -ge 3 ]]; then ok "strokes printed with their frames"; else bad "--list printed: $(cat "$work/out")"; fi
+expect_exit 0 "replay --drop-stroke" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --drop-stroke 1 --json "$work/report.json" --out "$work/undo.ply"
+expect_json "the stroke's events left out" "j['transfer']['events'] == j['collision_events'] - j['dropped_stroke']['events'] and not j['produced_by_a_session']"
+cmp -s "$work/undo.ply" "$work/transfer.ply" && bad "dropping a stroke changed nothing" || ok "dropping a stroke changes the model"
+expect_exit 2 "--drop-stroke past the last stroke" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --drop-stroke 99
+one_line_error "--drop-stroke names the count" "strokes (see --list)"
 # The thesis's reduced model set: record on 10 % of a 40,000-point sphere, transfer to all of it.
 expect_exit 0 "generate 40k sphere" -- "$SCULPT" generate sphere --points 40000 --out "$work/sphere40k.ply"
 sed "s|path = \"\.\./data/sphere_3203.ply\"|path = \"$work/sphere40k.ply\"|; s|\.\./out/|$work/r40k-|g; s|^\[heuristic\]|[heuristic]\nreduced_ratio = 0.1|" "$scenes/sphere-squeeze.toml" > "$work/reduced.toml"
@@ -310,6 +427,7 @@ expect_exit 0 "record on the reduced set" -- "$SCULPT" run "$work/reduced.toml" 
 expect_exit 0 "transfer to the full model and compare" -- "$SCULPT" replay "$work/r40k-sphere-squeeze.lcmlog" \
   --model "$work/sphere40k.ply" --scene "$work/reduced.toml" --json "$work/report.json"
 expect_json "transfer error reported" "j['points'] == 40000 and j['transfer']['events'] > 0 and 0 <= j['difference']['mean_percent'] < 5"
+expect_json "the full model of a reduced-set session is accepted as such" "j['model_match'] == 'full' and j['session']['reduced_ratio'] == 0.1 and j['session']['full_model']['points'] == 40000"
 python3 -c "import json; j=json.load(open('$work/report.json')); print('     transfer vs re-run on 40,000 points: mean %.4f %%, max %.4f %% of the diagonal' % (j['difference']['mean_percent'], j['difference']['max_percent']))"
 
 echo "$passed passed, $failed failed"

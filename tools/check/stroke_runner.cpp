@@ -138,7 +138,7 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
       const PlaneSide o = surface(after);
       const Vec3 cn = frame_.unrotate(model_.normal(o.nearest));
       const Vec3 pa = point(o.nearest);
-      std::fprintf(stderr, "   nearest %u at (%.4f %.4f %.4f) code n (%.3f %.3f %.3f) oracle n (%.3f %.3f %.3f)\n", o.nearest,
+      std::fprintf(stderr, "   nearest %u at (%.4g %.4g %.4g) code n (%.3g %.3g %.3g) oracle n (%.3g %.3g %.3g)\n", o.nearest,
                    pa.x, pa.y, pa.z, cn.x, cn.y, cn.z, o.normal.x, o.normal.y, o.normal.z);
     }
     fingers_[f].earlier = fingers_[f].accepted;

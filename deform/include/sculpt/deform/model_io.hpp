@@ -91,6 +91,9 @@ std::string write_xyz_to_buffer(const PointModel& model);
 /// Reads by file extension, case-insensitively: .ply, .off or .xyz. Any other extension
 /// throws ModelFileError.
 PointModel read_model(const std::string& path);
+/// Throws the ModelFileError write_model would throw for a path whose extension it cannot
+/// write, so a command can refuse an output before any work rather than after it.
+void check_model_format(const std::string& path);
 /// Writes by file extension, case-insensitively: .ply (with `encoding`), .off or .xyz. Any
 /// other extension throws ModelFileError.
 void write_model(const std::string& path, const PointModel& model,

@@ -4,6 +4,8 @@
 
 namespace sculpt::logging {
 
+/// The session header, the first event of every durable log (sculpt_lcm::session_header_t).
+inline constexpr const char* kSessionChannel = "SCULPT_SESSION";
 inline constexpr const char* kGloveChannel = "SCULPT_GLOVE";          ///< sculpt_lcm::glove_sample_t
 inline constexpr const char* kFingertipChannel = "SCULPT_FINGERTIP";  ///< sculpt_lcm::fingertip_state_t
 inline constexpr const char* kCollisionChannel = "SCULPT_COLLISION";  ///< sculpt_lcm::collision_event_t

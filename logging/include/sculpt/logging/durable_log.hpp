@@ -19,6 +19,7 @@
 #include "sculpt/hal/haptic_sink.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 #include "sculpt/logging/records.hpp"
+#include "sculpt_lcm/session_header_t.hpp"
 
 namespace lcm {
 class LogFile;
@@ -72,6 +73,12 @@ class DurableLog {
   ~DurableLog();
   DurableLog(const DurableLog&) = delete;
   DurableLog& operator=(const DurableLog&) = delete;
+
+  /// Writes the session header as the log's first event, on the calling thread, and pushes it
+  /// to the disk: set-up time, before start() (it may allocate: its scene text has no bound).
+  /// @throw std::logic_error when the thread was started or an event is already written;
+  /// std::runtime_error naming the path when it cannot be encoded or written.
+  void write_session_header(const sculpt_lcm::session_header_t& header);
 
   /// Starts the writer thread.
   /// @throw std::runtime_error when already started or already stopped (the file is closed).

@@ -59,6 +59,8 @@ class EventLogReader {
 
   /// The last kCorrupt's description; empty before any.
   const std::string& error() const noexcept { return error_; }
+  /// The byte offset the last kCorrupt describes (where the bad bytes begin).
+  std::uint64_t error_offset() const noexcept { return error_offset_; }
   /// Bytes passed over while resynchronising (including a truncated tail).
   std::uint64_t skipped_bytes() const noexcept { return skipped_bytes_; }
   /// kCorrupt results so far.
@@ -88,6 +90,7 @@ class EventLogReader {
   std::uint64_t position_ = 0;  // offset of the next event
   bool resync_pending_ = false;
   std::string error_;
+  std::uint64_t error_offset_ = 0;
   std::uint64_t skipped_bytes_ = 0;
   std::uint64_t corrupt_events_ = 0;
   std::vector<std::uint8_t> scan_buffer_;

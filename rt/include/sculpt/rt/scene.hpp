@@ -163,6 +163,7 @@ struct OutputScene {
 struct Scene {
   std::string file;      ///< the scene file as given (for messages)
   std::string base_dir;  ///< relative paths were resolved against this
+  std::string text;      ///< the TOML text it was parsed from (the session header records it)
   ModelScene model;
   deform::Material material;
   KernelScene kernel;

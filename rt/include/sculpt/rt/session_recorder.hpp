@@ -6,9 +6,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "sculpt/rt/scene.hpp"
+#include "sculpt/rt/session_header.hpp"
 #include "sculpt/rt/station_recorder.hpp"
 
 namespace sculpt::rt {
@@ -34,9 +36,11 @@ class SessionRecorder : public StationRecorder {
   virtual RecordingCounts counts() const = 0;
 };
 
-/// nullptr when the scene names neither a log nor live publishing. Throws std::runtime_error
-/// with a clear message when it does and this build has no LCM, and whatever the log's or the
-/// publisher's set-up throws.
-std::unique_ptr<SessionRecorder> make_session_recorder(const Scene& scene);
+/// nullptr when the scene names neither a log nor live publishing. With a `header`, the log's
+/// first event is that header, written and synced before this returns (the loop has not
+/// started). Throws std::runtime_error with a clear message when the scene asks for a log or
+/// publishing and this build has no LCM, and whatever the log's or the publisher's set-up throws.
+std::unique_ptr<SessionRecorder> make_session_recorder(const Scene& scene,
+                                                       const std::optional<SessionHeader>& header = std::nullopt);
 
 }  // namespace sculpt::rt

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sculpt/deform/model_identity.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normal_check.hpp"
 #include "sculpt/deform/point_model.hpp"
@@ -26,6 +27,9 @@ struct StationSetup {
   deform::TypicalSpacing spacing;      ///< the model's length scale, and which statistic gave it
   std::optional<Calibration> calibration;  ///< when the scene gave landmarks
   std::vector<std::string> notes;      ///< defaults derived, for the user to see once
+  /// A reduced-set session (heuristic.reduced_ratio < 1): the full model's identity, taken
+  /// before the reduction, so the session header can name the model the log transfers to.
+  std::optional<deform::ModelIdentity> full_model;
 };
 
 /// Loads and prepares everything the scene names (set-up: may allocate and throw; model file

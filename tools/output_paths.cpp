@@ -1,0 +1,47 @@
+#include "output_paths.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+#include "sculpt/deform/model_io.hpp"
+
+namespace sculpt::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code error;
+  if (fs::exists(a, error) && fs::exists(b, error)) {
+    const bool same = fs::equivalent(a, b, error);
+    if (!error) return same;
+  }
+  const fs::path ca = fs::weakly_canonical(a, error);
+  if (error) return false;
+  const fs::path cb = fs::weakly_canonical(b, error);
+  return !error && ca == cb;
+}
+
+bool names_a_file(const std::string& path) { return !path.empty() && path != "-"; }
+
+}  // namespace
+
+void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPath> inputs) {
+  if (!names_a_file(output.path)) return;
+  for (const NamedPath& input : inputs) {
+    if (!names_a_file(input.path) || !same_file(output.path, input.path)) continue;
+    throw std::invalid_argument(output.what + " " + output.path + " is " + input.what + " (" + input.path +
+                                "): an output may not overwrite an input");
+  }
+}
+
+void refuse_unwritable_model_format(const std::string& option, const std::string& path) {
+  try {
+    deform::check_model_format(path);
+  } catch (const deform::ModelFileError&) {
+    throw std::invalid_argument(option + " " + path + ": cannot write models with that extension (use .ply, .off or .xyz)");
+  }
+}
+
+}  // namespace sculpt::tools

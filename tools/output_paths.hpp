@@ -1,0 +1,26 @@
+#pragma once
+// Outputs checked before any work: a session of minutes must not end in "cannot write .obj",
+// and no output may overwrite one of the command's own inputs.
+
+#include <span>
+#include <string>
+
+namespace sculpt::tools {
+
+/// A path and what the command calls it ("--out", "the log", "the scene's base model").
+struct NamedPath {
+  std::string what;
+  std::string path;
+};
+
+/// Throws std::invalid_argument ("--out x.ply is the model (--model x.ply); ...") when
+/// `output` names the same file as one of `inputs`: the same inode when both exist
+/// (std::filesystem::equivalent: hard links, symbolic links, ./ and ../ alike), else the same
+/// weakly canonical path. Empty paths and "-" (stdout) name no file and are passed over.
+void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPath> inputs);
+
+/// Throws std::invalid_argument naming `option` when `path` is not .ply, .off or .xyz (what
+/// deform::write_model writes).
+void refuse_unwritable_model_format(const std::string& option, const std::string& path);
+
+}  // namespace sculpt::tools
