@@ -105,9 +105,11 @@ void bare_loop(benchmark::State& state, Precision precision) {
   std::vector<SourceForce> sources;
   for (int s = 0; s < 5; ++s) sources.push_back({{0.3 * s, 0.0, 1.5}, {0.0, 0.0, -1e-3}});
   for (auto _ : state) {
-    benchmark::DoNotOptimize(apply_displacements(model, kernel, sources, {}, true, {precision, false}).max_displacement);
+    benchmark::DoNotOptimize(
+        apply_displacements(model, kernel, sources, {}, true, {precision, false}).max_displacement);
   }
-  state.counters["points/s"] = benchmark::Counter(1e5 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["points/s"] =
+      benchmark::Counter(1e5 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
 void register_all() {
@@ -115,19 +117,27 @@ void register_all() {
   const auto ms = benchmark::kMillisecond;
   for (auto [precision, tag] : {std::pair{Precision::kFloat, "float"}, std::pair{Precision::kDouble, "double"}}) {
     const Precision p = precision;
-    RegisterBenchmark((std::string("BareLoop5x100k/") + tag).c_str(), [p](benchmark::State& s) { bare_loop(s, p); })
-        ->Unit(benchmark::kMicrosecond);
+    RegisterBenchmark((std::string("BareLoop5x100k/") + tag).c_str(), [p](benchmark::State& s) {
+      bare_loop(s, p);
+    })->Unit(benchmark::kMicrosecond);
     RegisterBenchmark((std::string("Sphere3203/global/") + tag).c_str(),
                       [p](benchmark::State& s) { frame(s, "sphere", p, 0.0); })
-        ->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMicrosecond);
+        ->Arg(1)
+        ->Arg(2)
+        ->Arg(3)
+        ->Unit(benchmark::kMicrosecond);
     for (const char* scan : {"snowden_54559.ply", "dragon_100250.ply", "dragon_437645.ply"}) {
       const std::string name = scan;
       RegisterBenchmark(("Scan/" + name + "/global/" + tag).c_str(),
                         [p, name](benchmark::State& s) { frame(s, name, p, 0.0); })
-          ->Arg(1)->Arg(5)->Unit(ms);
+          ->Arg(1)
+          ->Arg(5)
+          ->Unit(ms);
       RegisterBenchmark(("Scan/" + name + "/region20/" + tag).c_str(),
                         [p, name](benchmark::State& s) { frame(s, name, p, 20.0); })
-          ->Arg(1)->Arg(5)->Unit(ms);
+          ->Arg(1)
+          ->Arg(5)
+          ->Unit(ms);
     }
   }
 }

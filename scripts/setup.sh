@@ -21,6 +21,7 @@ PACKAGES=(
   can-utils
   libcgal-demo zlib1g-dev
   libosmesa6-dev libglfw3-dev libgl-dev xvfb xdotool
+  clang-format clang-tidy
   python3
 )
 

@@ -9,9 +9,9 @@ namespace sculpt::tools {
 
 void BadNormalsOption::add_to(CLI::App& sub) {
   option_ = sub.add_option("--bad-normals", choice_,
-                 "Zero or non-finite normals in the model file: reestimate (treat as missing) | refuse")
-      ->check(CLI::IsMember({"reestimate", "refuse"}))
-      ->default_val("reestimate");
+                           "Zero or non-finite normals in the model file: reestimate (treat as missing) | refuse")
+                ->check(CLI::IsMember({"reestimate", "refuse"}))
+                ->default_val("reestimate");
 }
 
 deform::NormalPolicy BadNormalsOption::policy() const {
@@ -28,9 +28,7 @@ deform::NormalReport BadNormalsOption::check(deform::PointModel& model, const st
 }
 
 nlohmann::json BadNormalsOption::to_json(const deform::NormalReport& report) const {
-  return {{"policy", choice_},
-          {"zero_or_nonfinite", report.zero_or_nonfinite},
-          {"renormalised", report.renormalised}};
+  return {{"policy", choice_}, {"zero_or_nonfinite", report.zero_or_nonfinite}, {"renormalised", report.renormalised}};
 }
 
 }  // namespace sculpt::tools

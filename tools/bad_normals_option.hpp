@@ -9,10 +9,10 @@
 #include "sculpt/deform/normal_check.hpp"
 #include "sculpt/deform/point_model.hpp"
 
-namespace CLI {
+namespace CLI {  // NOLINT(readability-identifier-naming): CLI11's own
 class App;
 class Option;
-}
+}  // namespace CLI
 
 namespace sculpt::tools {
 

@@ -148,25 +148,26 @@ class CheckCommand final : public Command {
       out_cases.push_back(case_json(r));
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(table, "%zu cases, %zu failed, %zu skipped, %.3g s; worst invariant deviation %.2g (single frames, "
+    std::fprintf(table,
+                 "%zu cases, %zu failed, %zu skipped, %.3g s; worst invariant deviation %.2g (single frames, "
                  "tolerance %.0e), %.2g (strokes, tolerance %.0e)\n",
                  cases.size(), failed, skipped, seconds, worst_single, tolerances.single_frame, worst_stroke,
                  tolerances.stroke);
     if (!json_path_.empty()) {
       json doc = {{"cases", out_cases},
-                        {"summary",
-                         {{"quick", quick_},
-                          {"cases", cases.size()},
-                          {"failed", failed},
-                          {"skipped", skipped},
-                          {"seconds", seconds},
-                          {"passed", failed == 0},
-                          {"lengths", "base units: the case's model before scaling"},
-                          {"tolerances",
-                           {{"single_frame", tolerances.single_frame},
-                            {"stroke", tolerances.stroke},
-                            {"max_displacement_ratio", tolerances.max_displacement_ratio}}},
-                          {"worst_deviation", {{"single_frame", worst_single}, {"stroke", worst_stroke}}}}}};
+                  {"summary",
+                   {{"quick", quick_},
+                    {"cases", cases.size()},
+                    {"failed", failed},
+                    {"skipped", skipped},
+                    {"seconds", seconds},
+                    {"passed", failed == 0},
+                    {"lengths", "base units: the case's model before scaling"},
+                    {"tolerances",
+                     {{"single_frame", tolerances.single_frame},
+                      {"stroke", tolerances.stroke},
+                      {"max_displacement_ratio", tolerances.max_displacement_ratio}}},
+                    {"worst_deviation", {{"single_frame", worst_single}, {"stroke", worst_stroke}}}}}};
       stamp_summary(doc);
       if (json_path_ == "-") {
         std::cout << doc.dump(2) << "\n";

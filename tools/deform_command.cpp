@@ -62,27 +62,40 @@ class DeformCommand final : public Command {
   explicit DeformCommand(CLI::App& app) {
     sub_ = app.add_subcommand("deform", "Apply one collision frame of fingertip contacts to a model file");
     sub_->add_option("--model", model_path_, "Input model (.ply, .off or .xyz)")->required();
-    sub_->add_option("--out", out_path_, "Write the deformed model here (.ply, .off or .xyz; faces kept in .ply and .off)");
+    sub_->add_option("--out", out_path_,
+                     "Write the deformed model here (.ply, .off or .xyz; faces kept in .ply and .off)");
     sub_->add_option("--contact", contacts_,
                      "X0,Y0,Z0:X1,Y1,Z1 probe before (outside) and after (pressed in); one per finger")
-        ->required()->take_all();
+        ->required()
+        ->take_all();
     sub_->add_option("--G", material_.shear_modulus, "Shear modulus G")->default_val(3e7);
     sub_->add_option("--nu", material_.poisson_ratio, "Poisson's ratio nu, in (-1, 0.5]")->default_val(0.45);
-    sub_->add_option("--kernel", kernel_, "kelvin | regularized")->check(CLI::IsMember({"kelvin", "regularized"}))->default_val("kelvin");
-    eps_reg_option_ = sub_->add_option("--eps-reg", eps_reg_, "Regularization radius of the regularized kernel (model units)");
+    sub_->add_option("--kernel", kernel_, "kelvin | regularized")
+        ->check(CLI::IsMember({"kelvin", "regularized"}))
+        ->default_val("kelvin");
+    eps_reg_option_ =
+        sub_->add_option("--eps-reg", eps_reg_, "Regularization radius of the regularized kernel (model units)");
     sub_->add_option("--form", form_, "force (thesis ch. 3: weights are the force) | scale (ch. 4: weights scale F)")
-        ->check(CLI::IsMember({"force", "scale"}))->default_val("force");
+        ->check(CLI::IsMember({"force", "scale"}))
+        ->default_val("force");
     sub_->add_option("--mode", mode_, "push | pull | auto (pull when every contact starts inside)")
-        ->check(CLI::IsMember({"push", "pull", "auto"}))->default_val("auto");
-    bc_option_ = sub_->add_option("--bc-radius", bc_radius_, "eps: points this close to A follow the probe [typical spacing]");
+        ->check(CLI::IsMember({"push", "pull", "auto"}))
+        ->default_val("auto");
+    bc_option_ =
+        sub_->add_option("--bc-radius", bc_radius_, "eps: points this close to A follow the probe [typical spacing]");
     dd_option_ = sub_->add_option("--delta-d", delta_d_, "Δd: least source distance from A [0.25 x typical spacing]");
-    dr_option_ = sub_->add_option("--delta-r", delta_r_, "Δr: a free finger this close pins its surface [1.5 x typical spacing]");
-    region_option_ = sub_->add_option("--region", region_radius_, "Move only points within this radius of a contact (default: all)");
-    sub_->add_option("--border-weight", border_weight_, "Weight of the region's pinned band against a contact")->default_val(1.0);
-    reference_option_ = sub_->add_option("--reference", reference_text_, "X,Y,Z point known to be outside (for models without normals)");
+    dr_option_ = sub_->add_option("--delta-r", delta_r_,
+                                  "Δr: a free finger this close pins its surface [1.5 x typical spacing]");
+    region_option_ =
+        sub_->add_option("--region", region_radius_, "Move only points within this radius of a contact (default: all)");
+    sub_->add_option("--border-weight", border_weight_, "Weight of the region's pinned band against a contact")
+        ->default_val(1.0);
+    reference_option_ = sub_->add_option("--reference", reference_text_,
+                                         "X,Y,Z point known to be outside (for models without normals)");
     sub_->add_flag("--double", use_double_, "Evaluate the per-point loop in double instead of float");
     sub_->add_option("--encoding", encoding_, "ascii | binary | binary_big_endian for a .ply output")
-        ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))->default_val("binary");
+        ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))
+        ->default_val("binary");
     sub_->add_option("--json", json_path_, "Also write the report as JSON here ('-' for stdout)");
     bad_normals_.add_to(*sub_);
   }
@@ -192,7 +205,7 @@ class DeformCommand final : public Command {
     double write_ms = 0.0;
     if (!out_path_.empty()) {
       const auto write_start = Clock::now();
-      const auto encoding = encoding_ == "ascii" ? deform::PlyEncoding::kAscii
+      const auto encoding = encoding_ == "ascii"    ? deform::PlyEncoding::kAscii
                             : encoding_ == "binary" ? deform::PlyEncoding::kBinaryLittleEndian
                                                     : deform::PlyEncoding::kBinaryBigEndian;
       deform::write_model(out_path_, model, encoding);
@@ -304,7 +317,8 @@ class DeformCommand final : public Command {
             {"out", out_path_.empty() ? json(nullptr) : json(out_path_)},
             {"kernel", k.kind == deform::KernelKind::kKelvin ? "kelvin" : "regularized"},
             {"eps_reg", k.regularization},
-            {"material", {{"G", k.material.shear_modulus}, {"nu", k.material.poisson_ratio}, {"E", k.material.young_modulus()}}},
+            {"material",
+             {{"G", k.material.shear_modulus}, {"nu", k.material.poisson_ratio}, {"E", k.material.young_modulus()}}},
             {"form", form_},
             {"mode", s.contact.mode == deform::ContactMode::kPush ? "push" : "pull"},
             {"precision", use_double_ ? "double" : "float"},
@@ -354,14 +368,16 @@ class DeformCommand final : public Command {
       std::printf("\n");
     }
     if (r.collisions > 0) {
-      std::printf("solve    %zu rows x %zu unknowns, rank %zu, residual %.3g (relative %.3g), condition %.3g "
-                  "(%.3g over the kept rank)%s\n",
-                  r.solve.rows, r.solve.unknowns, r.solve.rank, r.solve.residual, r.solve.relative_residual,
-                  r.solve.condition, r.solve.effective_condition, r.solve.damped ? ", damped" : "");
+      std::printf(
+          "solve    %zu rows x %zu unknowns, rank %zu, residual %.3g (relative %.3g), condition %.3g "
+          "(%.3g over the kept rank)%s\n",
+          r.solve.rows, r.solve.unknowns, r.solve.rank, r.solve.residual, r.solve.relative_residual, r.solve.condition,
+          r.solve.effective_condition, r.solve.damped ? ", damped" : "");
     }
-    std::printf("result   %zu collision(s), %zu points moved, max displacement %.4g, band/contact %.3g, frame %.3g ms\n",
-                r.collisions, r.region_points, r.max_displacement,
-                r.max_contact_displacement > 0 ? r.max_border_displacement / r.max_contact_displacement : 0.0, frame_ms);
+    std::printf(
+        "result   %zu collision(s), %zu points moved, max displacement %.4g, band/contact %.3g, frame %.3g ms\n",
+        r.collisions, r.region_points, r.max_displacement,
+        r.max_contact_displacement > 0 ? r.max_border_displacement / r.max_contact_displacement : 0.0, frame_ms);
     std::printf("guards   min det(I + grad u) %.4g, miss %.4g%s;", r.min_jacobian, r.max_miss,
                 r.rejected ? ", frame undone" : "");
     bool any = false;

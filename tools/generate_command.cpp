@@ -14,9 +14,12 @@ class GenerateCommand final : public Command {
  public:
   explicit GenerateCommand(CLI::App& app) {
     sub_ = app.add_subcommand("generate", "Write a built-in test model (sphere, plane or box) as PLY");
-    sub_->add_option("shape", shape_, "sphere | plane | box")->required()->check(CLI::IsMember({"sphere", "plane", "box"}));
+    sub_->add_option("shape", shape_, "sphere | plane | box")
+        ->required()
+        ->check(CLI::IsMember({"sphere", "plane", "box"}));
     sub_->add_option("--out", out_, "Output file (.ply, .off or .xyz)")->required();
-    sub_->add_option("--points", points_, "Sphere: number of points (the thesis used 3,203)")->check(CLI::Range(4, 100000000));
+    sub_->add_option("--points", points_, "Sphere: number of points (the thesis used 3,203)")
+        ->check(CLI::Range(4, 100000000));
     sub_->add_option("--radius", radius_, "Sphere radius")->check(CLI::PositiveNumber);
     sub_->add_option("--per-side", per_side_, "Plane: points per side")->check(CLI::Range(2, 100000));
     sub_->add_option("--spacing", spacing_, "Plane and box: point spacing")->check(CLI::PositiveNumber);

@@ -148,9 +148,10 @@ class GloveSimCommand final : public Command {
         next_recovery = now + 200'000'000;
       }
     }
-    std::printf("glove-sim: %llu samples sent, %llu not delivered (device gone), %llu recoveries, %llu dropped by the script\n",
-                static_cast<unsigned long long>(sent), static_cast<unsigned long long>(failed),
-                static_cast<unsigned long long>(recovered), static_cast<unsigned long long>(script.dropped()));
+    std::printf(
+        "glove-sim: %llu samples sent, %llu not delivered (device gone), %llu recoveries, %llu dropped by the script\n",
+        static_cast<unsigned long long>(sent), static_cast<unsigned long long>(failed),
+        static_cast<unsigned long long>(recovered), static_cast<unsigned long long>(script.dropped()));
     return kExitOk;
   }
 

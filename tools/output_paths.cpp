@@ -40,7 +40,8 @@ void refuse_unwritable_model_format(const std::string& option, const std::string
   try {
     deform::check_model_format(path);
   } catch (const deform::ModelFileError&) {
-    throw std::invalid_argument(option + " " + path + ": cannot write models with that extension (use .ply, .off or .xyz)");
+    throw std::invalid_argument(option + " " + path +
+                                ": cannot write models with that extension (use .ply, .off or .xyz)");
   }
 }
 

@@ -34,11 +34,8 @@ constexpr int kMinEdge = 16;
 constexpr int kMaxEdge = 4096;
 
 // One colour per finger (thumb .. little), strong enough to read on the clay and on the heat map.
-constexpr std::array<render::Rgb, 5> kFingerColors{{{0.90, 0.20, 0.55},
-                                                     {0.15, 0.45, 0.95},
-                                                     {0.10, 0.70, 0.35},
-                                                     {0.60, 0.30, 0.85},
-                                                     {0.95, 0.55, 0.05}}};
+constexpr std::array<render::Rgb, 5> kFingerColors{
+    {{0.90, 0.20, 0.55}, {0.15, 0.45, 0.95}, {0.10, 0.70, 0.35}, {0.60, 0.30, 0.85}, {0.95, 0.55, 0.05}}};
 
 render::Rgb finger_color(int finger) { return kFingerColors[static_cast<std::size_t>(finger) % kFingerColors.size()]; }
 
@@ -55,7 +52,8 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
     return false;
   }
   if (width < kMinEdge || height < kMinEdge || width > kMaxEdge || height > kMaxEdge) {
-    error = "each side must be " + std::to_string(kMinEdge) + " to " + std::to_string(kMaxEdge) + " pixels, got " + text;
+    error =
+        "each side must be " + std::to_string(kMinEdge) + " to " + std::to_string(kMaxEdge) + " pixels, got " + text;
     return false;
   }
   return true;
@@ -65,8 +63,10 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
 // cost nothing, so it is checked first.
 void check_output_path(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (extension != ".png") throw std::invalid_argument("--out " + path + ": the picture is written as PNG; name it .png");
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (extension != ".png")
+    throw std::invalid_argument("--out " + path + ": the picture is written as PNG; name it .png");
   std::filesystem::path folder = std::filesystem::path(path).parent_path();
   if (folder.empty()) folder = ".";
   struct stat info {};
@@ -129,7 +129,8 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale)
       if (!logging::decode(event, message, error) || !logging::from_lcm(message, c)) {
         std::fprintf(stderr, "skipped  %s\n",
                      error.empty() ? (path + ": byte offset " + std::to_string(event.offset) +
-                                      ": SCULPT_COLLISION event with invalid fields").c_str()
+                                      ": SCULPT_COLLISION event with invalid fields")
+                                         .c_str()
                                    : error.c_str());
         ++session.skipped;
         continue;
@@ -157,13 +158,18 @@ class RenderCommand final : public Command {
                      "Earlier version of the model (same points): draw both, the model coloured by displacement");
     sub_->add_option("--log", log_path_, "Event log of a session (sculpt run): draw its probes and force arrows");
     sub_->add_option("--arrow-scale", arrow_scale_, "With --log: draw each force arrow this many times its length")
-        ->check(CLI::PositiveNumber)->default_val(1.0);
+        ->check(CLI::PositiveNumber)
+        ->default_val(1.0);
     sub_->add_option("--views", views_, "A row of this many views around the model")->check(CLI::Range(1, 36));
     sub_->add_option("--azimuth", request_.azimuth_deg, "Degrees about the up axis, 0 = front")->default_val(30.0);
     sub_->add_option("--elevation", request_.elevation_deg, "Degrees above the horizon")
-        ->check(CLI::Range(-90.0, 90.0))->default_val(20.0);
-    view_option_ = sub_->add_option("--view", view_text_, "DX,DY,DZ: look along this direction (instead of the angles)");
-    sub_->add_option("--up", up_, "The model's up axis: x | y | z")->check(CLI::IsMember({"x", "y", "z"}))->default_val("y");
+        ->check(CLI::Range(-90.0, 90.0))
+        ->default_val(20.0);
+    view_option_ =
+        sub_->add_option("--view", view_text_, "DX,DY,DZ: look along this direction (instead of the angles)");
+    sub_->add_option("--up", up_, "The model's up axis: x | y | z")
+        ->check(CLI::IsMember({"x", "y", "z"}))
+        ->default_val("y");
     sub_->add_option("--size", size_text_, "WxH of each view, in pixels")->default_val("800x600");
   }
 
@@ -220,8 +226,8 @@ class RenderCommand final : public Command {
 #if SCULPT_HAS_LCM
     if (!log_path_.empty()) {
       SessionOverlay session = read_session_overlay(log_path_, arrow_scale_);
-      std::printf("log      %s: %zu collision events, %zu fingertip states%s\n", log_path_.c_str(),
-                  session.collisions, session.fingertips,
+      std::printf("log      %s: %zu collision events, %zu fingertip states%s\n", log_path_.c_str(), session.collisions,
+                  session.fingertips,
                   session.skipped ? (", " + std::to_string(session.skipped) + " skipped").c_str() : "");
       request_.overlay = std::move(session.overlay);
     }
@@ -230,11 +236,12 @@ class RenderCommand final : public Command {
     const render::Image picture = render::render_picture(model, before ? &*before : nullptr, request_, &info);
     render::write_png(out_path_, picture);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    const char* drawn = !model.triangles.empty()                  ? "drawn as faces"
+    const char* drawn = !model.triangles.empty()               ? "drawn as faces"
                         : before && !before->triangles.empty() ? "drawn with the faces of --compare's model"
                                                                : "drawn as splats";
     std::printf("model    %s: %zu points, %s\n", model_path_.c_str(), model.size(), drawn);
-    if (before) std::printf("compare  %s: largest displacement %.4g model units\n", before_path_.c_str(), info.max_displacement);
+    if (before)
+      std::printf("compare  %s: largest displacement %.4g model units\n", before_path_.c_str(), info.max_displacement);
     std::printf("wrote    %s: %dx%d (%d x %d views), %.0f ms\n", out_path_.c_str(), picture.width, picture.height,
                 info.rows, info.columns, ms);
     return kExitOk;

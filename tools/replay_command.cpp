@@ -45,7 +45,7 @@ namespace {
 // Bytes that are not a valid event, or an event that does not decode, and where.
 struct Damage {
   std::uint64_t offset = 0;
-  std::string what;                // "<path>: byte offset N: ..."
+  std::string what;                   // "<path>: byte offset N: ..."
   std::size_t collisions_before = 0;  // collision events read before it
   std::size_t events_before = 0;      // valid events read before it
 };
@@ -141,8 +141,8 @@ SessionLog read_session(const std::string& path) {
 
 const char* hand_name(std::uint8_t hand) { return hand == 0 ? "left" : "right"; }
 const char* finger_name(std::uint8_t finger) {
-  static const char* const names[] = {"thumb", "index", "middle", "ring", "little"};
-  return finger < 5 ? names[finger] : "?";
+  static const char* const kNames[] = {"thumb", "index", "middle", "ring", "little"};
+  return finger < 5 ? kNames[finger] : "?";
 }
 
 void progress_bar(const char* what, std::size_t done, std::size_t total) {
@@ -161,7 +161,8 @@ class ReplayCommand final : public Command {
     sub_->add_option("log", log_path_, "Event log written by sculpt run (LCM log format)")->required();
     sub_->add_option("--model", model_path_, "Model to apply the session to (required unless --list)");
     sub_->add_option("--scene", scene_path_, "Scene of the session (needed to re-run the glove samples)");
-    sub_->add_option("--mode", mode_, "transfer (apply the collision events) | rerun (glove samples through the station) | both")
+    sub_->add_option("--mode", mode_,
+                     "transfer (apply the collision events) | rerun (glove samples through the station) | both")
         ->check(CLI::IsMember({"transfer", "rerun", "both"}));
     sub_->add_option("--out", out_path_, "Write the resulting model here (.ply, .off or .xyz)");
     sub_->add_option("--json", json_path_, "Write the report here ('-' for stdout)");
@@ -205,24 +206,30 @@ class ReplayCommand final : public Command {
     if (list_) return;
     if (model_path_.empty()) throw std::invalid_argument("--model is required (unless --list)");
     if (mode_ != "transfer" && scene_path_.empty()) {
-      throw std::invalid_argument("--mode " + mode_ + " needs --scene (the session's filter, registration and settings)");
+      throw std::invalid_argument("--mode " + mode_ +
+                                  " needs --scene (the session's filter, registration and settings)");
     }
     if (edits && mode_ != "transfer") {
-      throw std::invalid_argument("--until-frame and --drop-stroke edit the collision events: they need --mode transfer");
+      throw std::invalid_argument(
+          "--until-frame and --drop-stroke edit the collision events: they need --mode transfer");
     }
     if (!record_path_.empty() && mode_ != "rerun") throw std::invalid_argument("--record needs --mode rerun");
     if (!out_path_.empty()) refuse_unwritable_model_format("--out", out_path_);
-    std::vector<NamedPath> inputs = {{"the log", log_path_}, {"the model (--model)", model_path_}};
+    std::vector<NamedPath> inputs = {{"the log", log_path_}, { "the model (--model)", model_path_ }};
     if (!scene_path_.empty()) {
       inputs.push_back({"the scene (--scene)", scene_path_});
       inputs.push_back({"the scene's base model", rt::load_scene(scene_path_).model.path});
     }
-    for (const NamedPath& output : {NamedPath{"--out", out_path_}, NamedPath{"--json", json_path_},
-                                    NamedPath{"--record", record_path_}}) {
+    for (const NamedPath& output : {NamedPath{"--out", out_path_}, NamedPath{"--json", json_path_}, NamedPath {
+                                      "--record",
+                                      record_path_
+                                    }}) {
       refuse_output_naming_input(output, inputs);
     }
     if (!record_path_.empty()) {
-      refuse_output_naming_input({"--record", record_path_}, std::vector<NamedPath>{{"--out", out_path_}, {"--json", json_path_}});
+      refuse_output_naming_input({"--record", record_path_}, std::vector<NamedPath>{{"--out", out_path_},
+                                                                                    { "--json",
+                                                                                      json_path_ }});
     }
   }
 
@@ -243,11 +250,16 @@ class ReplayCommand final : public Command {
       std::printf("stroke %-4zu %-5s %-6s  frames %lld-%lld  %zu events\n", s.number, hand_name(s.hand),
                   finger_name(s.finger), static_cast<long long>(s.first_frame), static_cast<long long>(s.last_frame),
                   s.events);
-      strokes.push_back({{"stroke", s.number}, {"hand", s.hand}, {"finger", s.finger},
-                         {"first_frame", s.first_frame}, {"last_frame", s.last_frame}, {"events", s.events}});
+      strokes.push_back({{"stroke", s.number},
+                         {"hand", s.hand},
+                         {"finger", s.finger},
+                         {"first_frame", s.first_frame},
+                         {"last_frame", s.last_frame},
+                         { "events",
+                           s.events }});
     }
     if (!json_path_.empty()) {
-      nlohmann::json json = {{"log", log_path_}, {"strokes", strokes}};
+      nlohmann::json json = {{"log", log_path_}, { "strokes", strokes }};
       stamp_summary(json);
       write_json(json_path_, json);
     }
@@ -271,26 +283,34 @@ class ReplayCommand final : public Command {
     // reader saw around it: damage too.
     if (whole.events < events.size() && !whole.cut_at_end && !stop) {
       const std::uint64_t at = log.collision_offsets[whole.events];
-      stop = Damage{at, log_path_ + ": byte offset " + std::to_string(at) + ": frame " +
-                            std::to_string(events[whole.events].frame_id) + " has the wrong number of events",
+      stop = Damage{at,
+                    log_path_ + ": byte offset " + std::to_string(at) + ": frame " +
+                        std::to_string(events[whole.events].frame_id) + " has the wrong number of events",
                     whole.events, 0};
     }
     nlohmann::json damage = nlohmann::json::array();
-    for (const Damage& d : log.damage) damage.push_back({{"offset", d.offset}, {"what", d.what}});
-    nlohmann::json report = {{"skip_damage", skip_damage_}, {"damage", damage}, {"cut", nullptr},
-                             {"stopped_at_damage", nullptr}, {"past_damage", false}};
+    for (const Damage& d : log.damage) damage.push_back({{"offset", d.offset}, { "what", d.what }});
+    nlohmann::json report = {{"skip_damage", skip_damage_},
+                             {"damage", damage},
+                             {"cut", nullptr},
+                             {"stopped_at_damage", nullptr},
+                             { "past_damage",
+                               false }};
     std::vector<logging::CollisionRecord> kept;
     if (stop && skip_damage_) {
       kept = rt::drop_incomplete_frames(all);
       report["past_damage"] = true;
-      std::fprintf(stderr, "damage   %s\n         passed over (--skip-damage): the result is a model no session produced\n",
+      std::fprintf(stderr,
+                   "damage   %s\n         passed over (--skip-damage): the result is a model no session produced\n",
                    stop->what.c_str());
     } else {
       kept.assign(events.begin(), events.begin() + static_cast<std::ptrdiff_t>(whole.events));
       if (stop) {
-        report["stopped_at_damage"] = {{"offset", stop->offset}, {"what", stop->what}};
-        std::fprintf(stderr, "damage   %s\n         replay stops at the last complete frame before it "
-                     "(--skip-damage goes on past it)\n", stop->what.c_str());
+        report["stopped_at_damage"] = {{"offset", stop->offset}, { "what", stop->what }};
+        std::fprintf(stderr,
+                     "damage   %s\n         replay stops at the last complete frame before it "
+                     "(--skip-damage goes on past it)\n",
+                     stop->what.c_str());
       } else if (const Damage* tail = log.tail_damage(); whole.cut_at_end || tail) {
         // The normal end of a crashed session: a partial last event, or a frame whose last
         // events were never written.
@@ -302,10 +322,12 @@ class ReplayCommand final : public Command {
           incomplete = {{"frame", events[whole.events].frame_id},
                         {"offset", log.collision_offsets[whole.events]},
                         {"events", events.size() - whole.events},
-                        {"frame_size", events[whole.events].frame_size}};
+                        { "frame_size",
+                          events[whole.events].frame_size }};
         }
-        report["cut"] = {{"offset", at}, {"incomplete_frame", incomplete}};
-        std::fprintf(stderr, "cut      %s ends at byte offset %llu (a crash or power cut): its %zu complete frames apply\n",
+        report["cut"] = {{"offset", at}, { "incomplete_frame", incomplete }};
+        std::fprintf(stderr,
+                     "cut      %s ends at byte offset %llu (a crash or power cut): its %zu complete frames apply\n",
                      log_path_.c_str(), static_cast<unsigned long long>(at), whole.frames);
       }
     }
@@ -318,19 +340,28 @@ class ReplayCommand final : public Command {
   // full model; anything else only with --force.
   void check_model(const SessionLog& log, const deform::PointModel& model, nlohmann::json& json) const {
     const deform::ModelIdentity given = deform::model_identity(model);
-    json["model_identity"] = {{"points", given.points}, {"hash", given.hash}};
+    json["model_identity"] = {{"points", given.points}, { "hash", given.hash }};
     if (!log.header) {
-      std::fprintf(stderr, "warning  %s has no session header (a log from before headers): the model cannot be checked against it\n",
-                   log_path_.c_str());
+      std::fprintf(
+          stderr,
+          "warning  %s has no session header (a log from before headers): the model cannot be checked against it\n",
+          log_path_.c_str());
       json["model_match"] = "unchecked (no session header)";
       return;
     }
     const rt::SessionHeader& h = *log.header;
-    json["session"] = {{"version", h.version}, {"scene", h.scene_path},
-                       {"model", {{"points", h.model.points}, {"hash", h.model.hash}}},
+    json["session"] = {{"version", h.version},
+                       {"scene", h.scene_path},
+                       {"model",
+                        { {"points", h.model.points},
+                          { "hash",
+                            h.model.hash } }},
                        {"reduced_ratio", h.full ? nlohmann::json(h.reduced_ratio) : nlohmann::json(nullptr)},
-                       {"full_model", h.full ? nlohmann::json{{"points", h.full->points}, {"hash", h.full->hash}}
-                                             : nlohmann::json(nullptr)}};
+                       { "full_model",
+                         h.full ? nlohmann::json{{"points", h.full->points},
+                                                 { "hash",
+                                                   h.full->hash }}
+                                : nlohmann::json(nullptr) }};
     switch (rt::match_model(h, given)) {
       case rt::ModelMatch::kRecording:
         json["model_match"] = "recording";
@@ -341,8 +372,7 @@ class ReplayCommand final : public Command {
         std::printf("model    the full model of a reduced-set session (ratio %g, recorded on %s): transfer\n",
                     h.reduced_ratio, deform::describe(h.model).c_str());
         return;
-      case rt::ModelMatch::kOther:
-        break;
+      case rt::ModelMatch::kOther: break;
     }
     std::string recorded = deform::describe(h.model);
     if (h.full) recorded += ", or its full model " + deform::describe(*h.full);
@@ -370,7 +400,8 @@ class ReplayCommand final : public Command {
                            {"events", log.events},
                            {"collision_events", log.collisions.size()},
                            {"glove_samples", log.samples.size()},
-                           {"skipped_bytes", log.skipped_bytes}};
+                           { "skipped_bytes",
+                             log.skipped_bytes }};
     stamp_summary(json);
     check_model(log, base, json);
     std::vector<logging::CollisionRecord> events = recover(log, &json);
@@ -387,8 +418,9 @@ class ReplayCommand final : public Command {
       const rt::Stroke& s = strokes[drop_stroke_ - 1];
       events = rt::drop_stroke(events, s);
       produced_by_session = false;
-      json["dropped_stroke"] = {{"stroke", s.number}, {"hand", s.hand}, {"finger", s.finger},
-                                {"first_frame", s.first_frame}, {"last_frame", s.last_frame}, {"events", s.events}};
+      json["dropped_stroke"] = {{"stroke", s.number},         {"hand", s.hand},
+                                {"finger", s.finger},         {"first_frame", s.first_frame},
+                                {"last_frame", s.last_frame}, { "events", s.events }};
       std::printf("undo     stroke %zu (%s %s, frames %lld-%lld, %zu events) left out\n", s.number, hand_name(s.hand),
                   finger_name(s.finger), static_cast<long long>(s.first_frame), static_cast<long long>(s.last_frame),
                   s.events);
@@ -401,21 +433,30 @@ class ReplayCommand final : public Command {
     std::optional<deform::PointModel> transferred, rerun;
     if (mode_ != "rerun") {
       transferred = base;
-      const rt::TransferStats stats = rt::transfer(*transferred, events,
-                                                   [](std::size_t d, std::size_t t) { progress_bar("transfer", d, t); });
-      json["transfer"] = {{"frames", stats.frames}, {"events", stats.events},
-                          {"last_frame", events.empty() ? nlohmann::json(nullptr) : nlohmann::json(events.back().frame_id)}};
-      std::printf("transfer %zu frames, %zu collision events onto %zu points\n", stats.frames, stats.events, base.size());
+      const rt::TransferStats stats =
+          rt::transfer(*transferred, events, [](std::size_t d, std::size_t t) { progress_bar("transfer", d, t); });
+      json["transfer"] = {{"frames", stats.frames},
+                          {"events", stats.events},
+                          { "last_frame",
+                            events.empty() ? nlohmann::json(nullptr) : nlohmann::json(events.back().frame_id) }};
+      std::printf("transfer %zu frames, %zu collision events onto %zu points\n", stats.frames, stats.events,
+                  base.size());
     }
     if (mode_ != "transfer") {
       rerun = rerun_session(log, json);
     }
     if (transferred && rerun) {
       const rt::ModelDifference d = rt::compare_models(*rerun, *transferred);
-      json["difference"] = {{"mean", d.mean}, {"max", d.max}, {"relative_to", "bounding-box diagonal"},
-                            {"mean_percent", 100.0 * d.mean}, {"max_percent", 100.0 * d.max}};
-      std::printf("compare  transfer vs re-run: mean %.4g %%, max %.4g %% of the bounding-box diagonal "
-                  "(the thesis measured 0.08 %% to 0.32 %% mean)\n", 100.0 * d.mean, 100.0 * d.max);
+      json["difference"] = {{"mean", d.mean},
+                            {"max", d.max},
+                            {"relative_to", "bounding-box diagonal"},
+                            {"mean_percent", 100.0 * d.mean},
+                            { "max_percent",
+                              100.0 * d.max }};
+      std::printf(
+          "compare  transfer vs re-run: mean %.4g %%, max %.4g %% of the bounding-box diagonal "
+          "(the thesis measured 0.08 %% to 0.32 %% mean)\n",
+          100.0 * d.mean, 100.0 * d.max);
     }
     const deform::PointModel& result = transferred ? *transferred : *rerun;
     if (!out_path_.empty()) {
@@ -474,13 +515,17 @@ class ReplayCommand final : public Command {
       if (recorder) recorder->tick(report, 0, 0, 0.0);
       if (++done % 1000 == 0 || t + period > end) progress_bar("re-run", done, total);
     }
-    json["rerun"] = {{"ticks", station.totals().ticks}, {"frames", station.totals().frames},
-                     {"collisions", station.totals().collisions}};
+    json["rerun"] = {{"ticks", station.totals().ticks},
+                     {"frames", station.totals().frames},
+                     { "collisions",
+                       station.totals().collisions }};
     if (recorder) {
       recorder->stop();
       const rt::RecordingCounts c = recorder->counts();
-      json["rerun"]["record"] = {{"path", record_path_}, {"collisions", c.collisions}, {"dropped", c.log_dropped},
-                                 {"write_errors", c.write_errors}};
+      json["rerun"]["record"] = {{"path", record_path_}, {"collisions", c.collisions}, {"dropped", c.log_dropped}, {
+                                   "write_errors",
+                                   c.write_errors
+                                 }};
     }
     std::printf("re-run   %llu ticks, %llu frames, %llu collisions on %zu points\n",
                 static_cast<unsigned long long>(station.totals().ticks),

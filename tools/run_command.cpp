@@ -41,7 +41,9 @@ const char* glove_name(rt::GloveState s) {
 }
 
 nlohmann::json histogram_json(const rt::LatencyHistogram& h) {
-  return {{"count", h.count()}, {"median_us", h.quantile(0.5) * 1e-3}, {"p99_us", h.quantile(0.99) * 1e-3},
+  return {{"count", h.count()},
+          {"median_us", h.quantile(0.5) * 1e-3},
+          {"p99_us", h.quantile(0.99) * 1e-3},
           {"max_us", static_cast<double>(h.max()) * 1e-3}};
 }
 
@@ -84,7 +86,8 @@ class RunCommand final : public Command {
       const std::string log = scene.output.log.value_or("");
       if (!out.empty()) refuse_unwritable_model_format("--out", out);
       const std::vector<NamedPath> inputs = {{"the scene", scene_path_}, {"the scene's base model", scene.model.path}};
-      for (const NamedPath& output : {NamedPath{"--out", out}, NamedPath{"--json", json}, NamedPath{"output.log", log}}) {
+      for (const NamedPath& output :
+           {NamedPath{"--out", out}, NamedPath{"--json", json}, NamedPath{"output.log", log}}) {
         refuse_output_naming_input(output, inputs);
       }
       if (json == "-") reserve_stdout_for_json();
@@ -114,7 +117,8 @@ class RunCommand final : public Command {
     }
     if (setup.calibration) {
       std::printf("register calibrated from %zu landmarks: rms residual %.4g, max %.4g\n",
-                  scene.registration.landmarks.size(), setup.calibration->rms_residual, setup.calibration->max_residual);
+                  scene.registration.landmarks.size(), setup.calibration->rms_residual,
+                  setup.calibration->max_residual);
     }
     rt::RealtimeOptions rt_options;
     const bool require = scene.loop.realtime == rt::RealtimeMode::kRequire;
@@ -189,13 +193,16 @@ class RunCommand final : public Command {
   static nlohmann::json recording_json(const rt::RecordingCounts& c) {
     nlohmann::json j = nlohmann::json::object();
     if (c.logging) {
-      j["log"] = {{"path", c.log_path},           {"glove_samples", c.glove_samples}, {"fingertips", c.fingertips},
-                  {"collisions", c.collisions},   {"ticks", c.ticks},                 {"haptic", c.haptic},
-                  {"dropped", c.log_dropped},     {"write_errors", c.write_errors}};
+      j["log"] = {{"path", c.log_path},         {"glove_samples", c.glove_samples},
+                  {"fingertips", c.fingertips}, {"collisions", c.collisions},
+                  {"ticks", c.ticks},           {"haptic", c.haptic},
+                  {"dropped", c.log_dropped},   {"write_errors", c.write_errors}};
     }
     if (c.publishing) {
-      j["live"] = {{"collisions", c.live_collisions}, {"ticks", c.live_ticks},
-                   {"fingertips", c.live_fingertips}, {"dropped", c.live_dropped}};
+      j["live"] = {{"collisions", c.live_collisions},
+                   {"ticks", c.live_ticks},
+                   {"fingertips", c.live_fingertips},
+                   {"dropped", c.live_dropped}};
     }
     return j;
   }
@@ -210,12 +217,13 @@ class RunCommand final : public Command {
       const auto now = std::chrono::steady_clock::now();
       const double dt = std::chrono::duration<double>(now - last).count();
       const std::uint64_t ticks = live.ticks.load();
-      std::printf("\r%7.1f/%.0f Hz  ticks %llu  overruns %llu  collisions %llu  region %llu pts in %.0f us  glove %s   ",
-                  static_cast<double>(ticks - last_ticks) / dt, rate, static_cast<unsigned long long>(ticks),
-                  static_cast<unsigned long long>(live.overruns.load()),
-                  static_cast<unsigned long long>(live.collisions.load()),
-                  static_cast<unsigned long long>(live.region_points.load()),
-                  static_cast<double>(live.deform_ns.load()) * 1e-3, glove_name(static_cast<rt::GloveState>(live.glove.load())));
+      std::printf(
+          "\r%7.1f/%.0f Hz  ticks %llu  overruns %llu  collisions %llu  region %llu pts in %.0f us  glove %s   ",
+          static_cast<double>(ticks - last_ticks) / dt, rate, static_cast<unsigned long long>(ticks),
+          static_cast<unsigned long long>(live.overruns.load()),
+          static_cast<unsigned long long>(live.collisions.load()),
+          static_cast<unsigned long long>(live.region_points.load()), static_cast<double>(live.deform_ns.load()) * 1e-3,
+          glove_name(static_cast<rt::GloveState>(live.glove.load())));
       std::fflush(stdout);
       last_ticks = ticks;
       last = now;
@@ -265,7 +273,8 @@ class RunCommand final : public Command {
   // commands than the loop sent (the newest per hand; the rest superseded), and says so here.
   static nlohmann::json haptic_json(const hal::HapticSink* sink, const rt::FixedRateLoop& loop) {
     if (!sink) return nullptr;
-    const double seconds = loop.achieved_rate() > 0.0 ? static_cast<double>(loop.stats().ticks) / loop.achieved_rate() : 0.0;
+    const double seconds =
+        loop.achieved_rate() > 0.0 ? static_cast<double>(loop.stats().ticks) / loop.achieved_rate() : 0.0;
     return {{"sink", sink->name()},
             {"delivered", sink->delivered()},
             {"superseded", sink->superseded()},

@@ -50,8 +50,7 @@ fs::path resolve_target(const std::string& path) {
 std::string temporary_name(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
   const std::string name = target.filename().string().substr(0, kMaxNameInTemp);
-  return "." + name + ".tmp-" + std::to_string(::getpid()) + "-" +
-         std::to_string(counter.fetch_add(1));
+  return "." + name + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
 }
 
 // The temporary file, removed on every way out unless the rename took it.
@@ -124,9 +123,9 @@ void write_file_atomically(const std::string& path, std::string_view bytes) {
   const bool exists = ::stat(target.c_str(), &existing) == 0;
   if (exists) {
     if (!S_ISREG(existing.st_mode)) {
-      throw ModelFileError(path, "", S_ISDIR(existing.st_mode)
-                                         ? "cannot write: is a directory"
-                                         : "cannot write: exists and is not a regular file");
+      throw ModelFileError(path, "",
+                           S_ISDIR(existing.st_mode) ? "cannot write: is a directory"
+                                                     : "cannot write: exists and is not a regular file");
     }
     // A rename needs only the folder's permission; without this check a read-only file the
     // user meant to protect would be replaced.

@@ -9,8 +9,8 @@ namespace sculpt::deform {
 void ContactSettings::validate() const {
   auto positive = [](double v, const char* name) {
     if (!(v > 0.0) || !std::isfinite(v)) {
-      throw std::invalid_argument(std::string("contact: ") + name +
-                                  " must be a positive finite number, got " + std::to_string(v));
+      throw std::invalid_argument(std::string("contact: ") + name + " must be a positive finite number, got " +
+                                  std::to_string(v));
     }
   };
   positive(bc_radius, "bc radius (eps)");
@@ -28,8 +28,8 @@ void ContactSettings::validate() const {
   }
 }
 
-SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift,
-                   const Vec3& probe, const ContactSettings& settings) {
+SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift, const Vec3& probe,
+                   const ContactSettings& settings) {
   SurfaceSide s;
   const PointIndex::Nearest near = index.nearest(model, probe, drift);
   s.nearest = near.index;

@@ -88,7 +88,8 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   journal_.reserve(n, model_.has_normals());
   centre_ = model_.bounding_box_centre();
   probe_range_ = settings_.guards.probe_range * std::max(model_.bounding_box_diagonal(), 1e-30);
-  min_patch_points_ = typical_patch_points(model_, index_, settings_.contact.bc_radius, settings_.guards.min_patch_fraction);
+  min_patch_points_ =
+      typical_patch_points(model_, index_, settings_.contact.bc_radius, settings_.guards.min_patch_fraction);
   sources_.reserve(kMaxSources);
   forces_.reserve(kMaxSources);
   weights_.resize(kMaxSources);
@@ -255,7 +256,9 @@ Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, const Ve
   return placed;
 }
 
-bool Deformer::probe_in_range(const Vec3& p) const noexcept { return is_finite(p) && norm(p - centre_) <= probe_range_; }
+bool Deformer::probe_in_range(const Vec3& p) const noexcept {
+  return is_finite(p) && norm(p - centre_) <= probe_range_;
+}
 
 bool Deformer::probe_usable(const ProbeMotion& m) const noexcept {
   return probe_in_range(m.current) && probe_in_range(m.previous) && (!m.earlier || probe_in_range(*m.earlier));
@@ -401,8 +404,8 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
 
   // 6. Move the region (or everything) and carry the normals, keeping the old values: a frame
   //    that folds the material or yields a non-finite value is undone bit for bit.
-  const FieldResult moved = apply_displacements(model_, settings_.kernel, forces_, region_.points(),
-                                                region_.global(), settings_.field, /*jacobian=*/true, &journal_);
+  const FieldResult moved = apply_displacements(model_, settings_.kernel, forces_, region_.points(), region_.global(),
+                                                settings_.field, /*jacobian=*/true, &journal_);
   r.min_jacobian = moved.min_jacobian;
   if (!moved.finite) {
     journal_.restore(model_);

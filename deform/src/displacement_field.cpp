@@ -117,8 +117,7 @@ void add_gradients(const SourceTable<T>& t, const Block<T>& b, GradientBlock<T>&
 // used as it is: where the frame folded (det <= 0) no normal formula is meaningful, and the
 // fold guard rejects the frame before anyone reads that normal.
 template <typename T>
-inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, bool carry, float& nx, float& ny,
-                             float& nz) {
+inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, bool carry, float& nx, float& ny, float& nz) {
   const T f00 = T(1) + gb.g[0][0][k], f01 = gb.g[0][1][k], f02 = gb.g[0][2][k];
   const T f10 = gb.g[1][0][k], f11 = T(1) + gb.g[1][1][k], f12 = gb.g[1][2][k];
   const T f20 = gb.g[2][0][k], f21 = gb.g[2][1][k], f22 = T(1) + gb.g[2][2][k];
@@ -148,12 +147,12 @@ template <typename T>
 std::uint32_t non_finite_bits(const T* v, std::size_t n) {
   static_assert(sizeof(T) == 4 || sizeof(T) == 8, "float or double");
   using Bits = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
-  constexpr Bits exponent = static_cast<Bits>(sizeof(T) == 4 ? 0x7f800000ull : 0x7ff0000000000000ull);
+  constexpr Bits kExponent = static_cast<Bits>(sizeof(T) == 4 ? 0x7f800000ull : 0x7ff0000000000000ull);
   std::uint32_t bad = 0;
   for (std::size_t k = 0; k < n; ++k) {
     Bits bits;
     std::memcpy(&bits, v + k, sizeof bits);
-    bad |= static_cast<std::uint32_t>((bits & exponent) == exponent);
+    bad |= static_cast<std::uint32_t>((bits & kExponent) == kExponent);
   }
   return bad;
 }
@@ -303,12 +302,13 @@ FieldResult apply_in(PointModel& model, const Kernel& kernel, std::span<const So
                      UndoJournal* journal) {
   const SourceTable<T> table = make_table<T>(kernel, sources);
   if (all_points) {
-    return apply_typed(model, table, model.size(), [](std::size_t k) { return k; }, carry_normals, jacobian,
-                       journal);
+    return apply_typed(
+        model, table, model.size(), [](std::size_t k) { return k; }, carry_normals, jacobian, journal);
   }
   const std::uint32_t* idx = indices.data();
-  return apply_typed(model, table, indices.size(), [idx](std::size_t k) { return std::size_t{idx[k]}; },
-                     carry_normals, jacobian, journal);
+  return apply_typed(
+      model, table, indices.size(), [idx](std::size_t k) { return std::size_t{idx[k]}; }, carry_normals, jacobian,
+      journal);
 }
 
 }  // namespace

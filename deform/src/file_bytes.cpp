@@ -12,9 +12,7 @@
 namespace sculpt::deform {
 namespace {
 
-std::string errno_text(const char* what) {
-  return std::string(what) + " (" + std::strerror(errno) + ")";
-}
+std::string errno_text(const char* what) { return std::string(what) + " (" + std::strerror(errno) + ")"; }
 
 // What a path is when it is not a regular file, in the words `ls -l` users know.
 const char* kind_of(mode_t mode) {
@@ -53,8 +51,7 @@ std::string read_file_bytes(const std::string& path) {
   struct stat info {};
   if (::fstat(file.get(), &info) != 0) throw ModelFileError(path, "", errno_text("cannot read"));
   if (!S_ISREG(info.st_mode)) {
-    throw ModelFileError(path, "", std::string("cannot read: ") + kind_of(info.st_mode) +
-                                       ", not a regular file");
+    throw ModelFileError(path, "", std::string("cannot read: ") + kind_of(info.st_mode) + ", not a regular file");
   }
   std::string bytes;
   bytes.reserve(static_cast<std::size_t>(info.st_size));

@@ -20,8 +20,7 @@ void require_positive(double value, const char* what) {
 
 void require_reasonable_count(double count) {
   if (count > kMaxGeneratedPoints) {
-    throw std::invalid_argument("generator: " + std::to_string(count) +
-                                " points requested; check the spacing");
+    throw std::invalid_argument("generator: " + std::to_string(count) + " points requested; check the spacing");
   }
 }
 
@@ -56,8 +55,8 @@ PointModel make_plane_patch(std::size_t per_side, double spacing) {
   std::size_t i = 0;
   for (std::size_t row = 0; row < per_side; ++row) {
     for (std::size_t col = 0; col < per_side; ++col, ++i) {
-      model.set_position(i, {(static_cast<double>(col) - half) * spacing,
-                             (static_cast<double>(row) - half) * spacing, 0.0});
+      model.set_position(
+          i, {(static_cast<double>(col) - half) * spacing, (static_cast<double>(row) - half) * spacing, 0.0});
       model.set_normal(i, {0.0, 0.0, 1.0});
     }
   }

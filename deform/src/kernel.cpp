@@ -107,8 +107,7 @@ Vec3 displacement(const Kernel& kernel, const Vec3& source, const Vec3& force, c
   return force * (k.alpha * s.inv + k.beta * s.inv3) + s.r * (k.gamma * s.inv3 * rf);
 }
 
-Mat3 displacement_gradient(const Kernel& kernel, const Vec3& source, const Vec3& force,
-                           const Vec3& point) {
+Mat3 displacement_gradient(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point) {
   // u = g(r) f + h(r) (r.f) r with g = alpha/r + beta/r^3, h = gamma/r^3, dr/dQ_m = r_m / r:
   // du_l/dQ_m = (g'/r) f_l r_m + (h'/r) (r.f) r_l r_m + h ((r.f) delta_lm + r_l f_m)
   const KernelCoefficients k = coefficients(kernel);
@@ -127,8 +126,8 @@ Mat3 displacement_gradient(const Kernel& kernel, const Vec3& source, const Vec3&
   return grad;
 }
 
-Vec3 stress_traction(const Kernel& kernel, const Vec3& source, const Vec3& force,
-                     const Vec3& point, const Vec3& normal) {
+Vec3 stress_traction(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point,
+                     const Vec3& normal) {
   const KernelCoefficients k = coefficients(kernel);
   const Separation s = separation(k, source, point);
   const double lambda_div = dot(s.r, force) * (k.lambda_div3 * s.inv3 + k.lambda_div5 * s.inv5);
@@ -151,15 +150,14 @@ Mat3 kelvin_traction_matrix(double nu, const Vec3& source, const Vec3& point, co
   Mat3 t;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      t(i, j) = k * (((i == j ? a : 0.0) + 3.0 * rh[i] * rh[j]) * cos_theta -
-                     a * (rh[i] * normal[j] - rh[j] * normal[i]));
+      t(i, j) =
+          k * (((i == j ? a : 0.0) + 3.0 * rh[i] * rh[j]) * cos_theta - a * (rh[i] * normal[j] - rh[j] * normal[i]));
     }
   }
   return t;
 }
 
-Vec3 kelvin_traction(double nu, const Vec3& source, const Vec3& force, const Vec3& point,
-                     const Vec3& normal) {
+Vec3 kelvin_traction(double nu, const Vec3& source, const Vec3& force, const Vec3& point, const Vec3& normal) {
   const Mat3 t = kelvin_traction_matrix(nu, source, point, normal);
   Vec3 out;
   for (int j = 0; j < 3; ++j) {
@@ -168,8 +166,7 @@ Vec3 kelvin_traction(double nu, const Vec3& source, const Vec3& force, const Vec
   return out;
 }
 
-Vec3 traction(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point,
-              const Vec3& normal) {
+Vec3 traction(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point, const Vec3& normal) {
   if (kernel.kind == KernelKind::kKelvin) {
     return kelvin_traction(kernel.material.poisson_ratio, source, force, point, normal);
   }

@@ -38,15 +38,13 @@ PointModel read_model(const std::string& path) {
   if (ext == ".ply") return read_ply(path);
   if (ext == ".off") return read_off(path);
   if (ext == ".xyz") return read_xyz(path);
-  throw ModelFileError(
-      path, "", "cannot read models with " + shown_extension(path) + " (use .ply, .off or .xyz)");
+  throw ModelFileError(path, "", "cannot read models with " + shown_extension(path) + " (use .ply, .off or .xyz)");
 }
 
 void check_model_format(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext == ".ply" || ext == ".off" || ext == ".xyz") return;
-  throw ModelFileError(
-      path, "", "cannot write models with " + shown_extension(path) + " (use .ply, .off or .xyz)");
+  throw ModelFileError(path, "", "cannot write models with " + shown_extension(path) + " (use .ply, .off or .xyz)");
 }
 
 void write_model(const std::string& path, const PointModel& model, PlyEncoding encoding) {

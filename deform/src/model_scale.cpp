@@ -45,9 +45,9 @@ PointModel distinct_positions(const PointModel& m) {
   std::iota(order.begin(), order.end(), 0u);
   const auto key = [&m](std::uint32_t i) { return std::array<float, 3>{m.x[i], m.y[i], m.z[i]}; };
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
-  order.erase(std::unique(order.begin(), order.end(),
-                          [&](std::uint32_t a, std::uint32_t b) { return key(a) == key(b); }),
-              order.end());
+  order.erase(
+      std::unique(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) == key(b); }),
+      order.end());
   PointModel distinct;
   for (const std::uint32_t i : order) distinct.push_back(m.position(i));
   return distinct;

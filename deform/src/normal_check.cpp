@@ -43,8 +43,8 @@ NormalReport check_normals(PointModel& model, NormalPolicy policy, const std::st
     if (!std::isfinite(length) || length == 0.0) {
       if (policy == NormalPolicy::kRefuse) {
         throw ModelFileError(name_for_errors, "",
-                             "vertex " + std::to_string(i) + " has a " +
-                                 (length == 0.0 ? "zero" : "non-finite") + " normal " + shown(n));
+                             "vertex " + std::to_string(i) + " has a " + (length == 0.0 ? "zero" : "non-finite") +
+                                 " normal " + shown(n));
       }
       bad.push_back(static_cast<std::uint32_t>(i));
     } else if (std::abs(length - 1.0) > kUnitNormalTolerance) {

@@ -21,9 +21,7 @@ namespace {
 
 constexpr std::size_t kMinNeighbours = 3;  // fewer points do not span a plane
 
-std::size_t neighbourhood_size(const NormalEstimation& options) {
-  return std::max(options.neighbours, kMinNeighbours);
-}
+std::size_t neighbourhood_size(const NormalEstimation& options) { return std::max(options.neighbours, kMinNeighbours); }
 
 /// The k-NN lists of every point, flattened: row i holds point i's neighbours (itself
 /// included), `width` slots per row, unused slots set to the point itself.
@@ -37,8 +35,7 @@ struct NeighbourTable {
 // Unit normal of the best-fit plane through `count` points (smallest-eigenvalue eigenvector
 // of their covariance). Coordinates are taken relative to `origin` so float models far from the
 // origin keep their precision.
-Vec3 pca_normal(const PointModel& model, const std::uint32_t* ids, std::size_t count,
-                const Vec3& origin) {
+Vec3 pca_normal(const PointModel& model, const std::uint32_t* ids, std::size_t count, const Vec3& origin) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (std::size_t j = 0; j < count; ++j) {
     const Vec3 d = model.position(ids[j]) - origin;
@@ -53,8 +50,8 @@ Vec3 pca_normal(const PointModel& model, const std::uint32_t* ids, std::size_t c
   }
   // The iterative solver, not computeDirect(): the closed form loses the small eigenvector's
   // accuracy on thin neighbourhoods, which is exactly the case that matters here.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(
-      covariance.selfadjointView<Eigen::Lower>(), Eigen::ComputeEigenvectors);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance.selfadjointView<Eigen::Lower>(),
+                                                              Eigen::ComputeEigenvectors);
   const Eigen::Vector3d n = solver.eigenvectors().col(0);  // eigenvalues come ascending
   return normalized(Vec3{n.x(), n.y(), n.z()});
 }
@@ -94,8 +91,7 @@ void orient_toward(const PointModel& model, const Vec3& reference, std::vector<V
 // Hoppe et al. 1992: carry the sign from point to point along a minimum spanning tree whose
 // edges are cheap where neighbouring normals are nearly parallel, so the sign is never passed
 // across a fold or a sharp edge while a smoother path exists.
-void orient_along_mst(const PointModel& model, const NeighbourTable& table,
-                      std::vector<Vec3>& normals) {
+void orient_along_mst(const PointModel& model, const NeighbourTable& table, std::vector<Vec3>& normals) {
   const std::size_t n = model.size();
   // Symmetric adjacency in compressed rows: a k-NN relation is one-sided, and the tree must be
   // able to step either way along it.
@@ -128,16 +124,14 @@ void orient_along_mst(const PointModel& model, const NeighbourTable& table,
     const auto unique_end = std::unique(row_begin, row_end);
     start[i] = kept;
     kept = static_cast<std::size_t>(
-        std::copy(row_begin, unique_end, adjacent.begin() + static_cast<std::ptrdiff_t>(kept)) -
-        adjacent.begin());
+        std::copy(row_begin, unique_end, adjacent.begin() + static_cast<std::ptrdiff_t>(kept)) - adjacent.begin());
   }
   start[n] = kept;
 
   // Seeds in order of decreasing x: each new component starts at its own largest-x point.
   std::vector<std::uint32_t> by_x(n);
   std::iota(by_x.begin(), by_x.end(), 0u);
-  std::stable_sort(by_x.begin(), by_x.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return model.x[a] > model.x[b]; });
+  std::stable_sort(by_x.begin(), by_x.end(), [&](std::uint32_t a, std::uint32_t b) { return model.x[a] > model.x[b]; });
 
   // Prim's algorithm with lazy deletion: (weight, node, parent), smallest weight first.
   using Edge = std::tuple<double, std::uint32_t, std::uint32_t>;
@@ -204,15 +198,15 @@ void compute_normals_from_faces(PointModel& model) {
   const std::size_t n = model.size();
   const std::vector<std::uint32_t>& tri = model.triangles;
   if (tri.size() % 3 != 0) {
-    throw std::invalid_argument("compute_normals_from_faces: triangle index count " +
-                                std::to_string(tri.size()) + " is not a multiple of 3");
+    throw std::invalid_argument("compute_normals_from_faces: triangle index count " + std::to_string(tri.size()) +
+                                " is not a multiple of 3");
   }
   std::vector<Vec3> normals(n);
   for (std::size_t t = 0; t < tri.size(); t += 3) {
     const std::uint32_t a = tri[t], b = tri[t + 1], c = tri[t + 2];
     if (a >= n || b >= n || c >= n) {
-      throw std::invalid_argument("compute_normals_from_faces: triangle " +
-                                  std::to_string(t / 3) + " refers to a point out of range");
+      throw std::invalid_argument("compute_normals_from_faces: triangle " + std::to_string(t / 3) +
+                                  " refers to a point out of range");
     }
     const Vec3 pa = model.position(a);
     // Twice the face's area along its normal: summing these weighs faces by area.
@@ -248,8 +242,7 @@ void reestimate_normals(PointModel& model, const std::vector<std::uint32_t>& poi
   std::size_t unique = 0;
   for (const std::uint32_t i : points) {
     if (i >= n) {
-      throw std::invalid_argument("reestimate_normals: point " + std::to_string(i) + " of " +
-                                  std::to_string(n));
+      throw std::invalid_argument("reestimate_normals: point " + std::to_string(i) + " of " + std::to_string(n));
     }
     unique += listed[i] == 0 ? 1 : 0;
     listed[i] = 1;

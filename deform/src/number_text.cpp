@@ -84,9 +84,7 @@ bool parse_integer(std::string_view token, Int& value) {
 
 bool parse_float(std::string_view token, float& value) { return parse_real(token, value); }
 bool parse_double(std::string_view token, double& value) { return parse_real(token, value); }
-bool parse_int64(std::string_view token, std::int64_t& value) {
-  return parse_integer(token, value);
-}
+bool parse_int64(std::string_view token, std::int64_t& value) { return parse_integer(token, value); }
 bool parse_uint64(std::string_view token, std::uint64_t& value) {
   return parse_integer(token, value);  // from_chars refuses a '-' for unsigned types
 }

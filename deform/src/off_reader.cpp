@@ -57,8 +57,7 @@ class OffParser {
     }
     // Each vertex line has at least "0 0 0": refuse counts the file cannot hold before
     // allocating for them.
-    if (vertex_count > scanner_.remaining() / 5 ||
-        vertex_count > std::numeric_limits<std::uint32_t>::max()) {
+    if (vertex_count > scanner_.remaining() / 5 || vertex_count > std::numeric_limits<std::uint32_t>::max()) {
       fail("vertex count " + std::to_string(vertex_count) + " is more than the file can hold");
     }
 
@@ -67,8 +66,7 @@ class OffParser {
     // Each face line has at least its corner count and a line end ("0\n"; the last line may
     // lack it): a face count the rest of the file cannot hold is refused before any reserve.
     if (face_count > (scanner_.remaining() + 1) / 2) {
-      fail_at(header_line, "face count " + std::to_string(face_count) +
-                               " is more than the rest of the file can hold");
+      fail_at(header_line, "face count " + std::to_string(face_count) + " is more than the rest of the file can hold");
     }
     read_faces(face_count, model);
     refuse_trailing_data();
@@ -130,8 +128,7 @@ class OffParser {
     }
     float value = 0.0F;
     if (!parse_float(token, value)) {
-      fail(quoted(token) + " is not a number (" + what + " of vertex " + std::to_string(index) +
-           ")");
+      fail(quoted(token) + " is not a number (" + what + " of vertex " + std::to_string(index) + ")");
     }
     return value;
   }
@@ -141,8 +138,8 @@ class OffParser {
     std::string_view line;
     for (std::size_t i = 0; i < count; ++i) {
       if (!next_content_line(line)) {
-        fail_at(scanner_.next_line_number(), "file truncated: expected " + std::to_string(count) +
-                                                 " vertices, read " + std::to_string(i));
+        fail_at(scanner_.next_line_number(),
+                "file truncated: expected " + std::to_string(count) + " vertices, read " + std::to_string(i));
       }
       TokenCursor tokens(line);
       model.x[i] = number(tokens, "x", i);
@@ -205,8 +202,8 @@ class OffParser {
     std::string_view line;
     for (std::uint64_t f = 0; f < count; ++f) {
       if (!next_content_line(line)) {
-        fail_at(scanner_.next_line_number(), "file truncated: expected " + std::to_string(count) +
-                                                 " faces, read " + std::to_string(f));
+        fail_at(scanner_.next_line_number(),
+                "file truncated: expected " + std::to_string(count) + " faces, read " + std::to_string(f));
       }
       TokenCursor tokens(line);
       std::string_view token;
@@ -218,16 +215,16 @@ class OffParser {
       polygon.clear();
       for (std::uint64_t j = 0; j < corners; ++j) {
         if (!tokens.next(token)) {
-          fail("face " + std::to_string(f) + " lists " + std::to_string(corners) +
-               " corners but the line has only " + std::to_string(j) + " indices");
+          fail("face " + std::to_string(f) + " lists " + std::to_string(corners) + " corners but the line has only " +
+               std::to_string(j) + " indices");
         }
         std::int64_t index = 0;
         if (!parse_int64(token, index)) {
           fail(quoted(token) + " is not a vertex index (face " + std::to_string(f) + ")");
         }
         if (index < 0 || static_cast<std::uint64_t>(index) >= vertex_count) {
-          fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(index) +
-               ", but there are only " + std::to_string(vertex_count) + " vertices");
+          fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(index) + ", but there are only " +
+               std::to_string(vertex_count) + " vertices");
         }
         polygon.push_back(static_cast<std::uint32_t>(index));
       }
@@ -239,9 +236,7 @@ class OffParser {
     }
   }
 
-  [[noreturn]] void fail(const std::string& problem) const {
-    fail_at(scanner_.line_number(), problem);
-  }
+  [[noreturn]] void fail(const std::string& problem) const { fail_at(scanner_.line_number(), problem); }
   [[noreturn]] void fail_at(std::size_t line, const std::string& problem) const {
     throw ModelFileError(name_, line_where(line), problem);
   }
@@ -256,8 +251,6 @@ PointModel read_off_from_buffer(std::string_view text, const std::string& name_f
   return OffParser(text, name_for_errors).parse();
 }
 
-PointModel read_off(const std::string& path) {
-  return read_off_from_buffer(read_file_bytes(path), path);
-}
+PointModel read_off(const std::string& path) { return read_off_from_buffer(read_file_bytes(path), path); }
 
 }  // namespace sculpt::deform

@@ -26,8 +26,8 @@ std::string write_off_to_buffer(const PointModel& model) {
     if (model.has_colors()) {
       // Integers, so readers take them as 0..255 rather than 0..1; alpha is 255 (opaque) when
       // the model has none, since readers of COFF expect four channels.
-      for (std::uint8_t v : {model.red[i], model.green[i], model.blue[i],
-                             model.has_alpha() ? model.alpha[i] : std::uint8_t{255}}) {
+      for (std::uint8_t v :
+           {model.red[i], model.green[i], model.blue[i], model.has_alpha() ? model.alpha[i] : std::uint8_t{255}}) {
         out += ' ';
         append_uint(out, v);
       }

@@ -43,9 +43,7 @@ std::vector<std::string_view> split(std::string_view line) {
 
 std::size_t ply_type_size(PlyType type) { return kTypeNames[static_cast<std::size_t>(type)].size; }
 
-bool ply_type_is_integer(PlyType type) {
-  return type != PlyType::kFloat32 && type != PlyType::kFloat64;
-}
+bool ply_type_is_integer(PlyType type) { return type != PlyType::kFloat32 && type != PlyType::kFloat64; }
 
 std::optional<PlyType> ply_type_from_name(std::string_view name) {
   for (const TypeName& t : kTypeNames) {
@@ -54,9 +52,7 @@ std::optional<PlyType> ply_type_from_name(std::string_view name) {
   return std::nullopt;
 }
 
-const char* ply_type_name(PlyType type) {
-  return kTypeNames[static_cast<std::size_t>(type)].classic.data();
-}
+const char* ply_type_name(PlyType type) { return kTypeNames[static_cast<std::size_t>(type)].classic.data(); }
 
 std::optional<std::size_t> PlyElement::find(std::string_view property_name) const {
   for (std::size_t i = 0; i < properties.size(); ++i) {
@@ -160,8 +156,7 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& name) {
       }
       PlyElement& element = header.elements.back();
       if (element.find(property.name)) {
-        fail("property " + quoted(property.name) + " declared twice in element " +
-             quoted(element.name));
+        fail("property " + quoted(property.name) + " declared twice in element " + quoted(element.name));
       }
       element.properties.push_back(std::move(property));
     } else if (keyword == "end_header") {

@@ -14,16 +14,7 @@
 namespace sculpt::deform {
 
 /// The eight PLY numeric types.
-enum class PlyType : std::uint8_t {
-  kInt8,
-  kUint8,
-  kInt16,
-  kUint16,
-  kInt32,
-  kUint32,
-  kFloat32,
-  kFloat64
-};
+enum class PlyType : std::uint8_t { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
 
 /// Bytes one value of `type` takes in a binary body.
 std::size_t ply_type_size(PlyType type);

@@ -51,8 +51,7 @@ constexpr TargetName kTargetNames[] = {
     {"diffuse_alpha", Target::kAlpha},
 };
 
-constexpr const char* kTargetLabel[] = {"",   "x",   "y",     "z",    "nx",   "ny",
-                                        "nz", "red", "green", "blue", "alpha"};
+constexpr const char* kTargetLabel[] = {"", "x", "y", "z", "nx", "ny", "nz", "red", "green", "blue", "alpha"};
 
 // How the vertex element maps onto the model.
 struct VertexPlan {
@@ -71,9 +70,7 @@ std::string count_of(std::uint64_t n, const std::string& element) {
 }
 
 VertexPlan plan_vertices(const PlyElement& vertex, const std::string& name) {
-  auto fail = [&](const std::string& problem) {
-    throw ModelFileError(name, line_where(vertex.line), problem);
-  };
+  auto fail = [&](const std::string& problem) { throw ModelFileError(name, line_where(vertex.line), problem); };
   VertexPlan plan;
   plan.targets.assign(vertex.properties.size(), Target::kSkip);
   bool seen[std::size(kTargetLabel)] = {};
@@ -95,8 +92,7 @@ VertexPlan plan_vertices(const PlyElement& vertex, const std::string& name) {
     if (present == 0 && !required) return false;
     for (Target t : group) {
       if (!seen[static_cast<std::size_t>(t)]) {
-        fail("element 'vertex' has no property " +
-             quoted(kTargetLabel[static_cast<std::size_t>(t)]));
+        fail("element 'vertex' has no property " + quoted(kTargetLabel[static_cast<std::size_t>(t)]));
       }
     }
     return false;
@@ -267,9 +263,7 @@ class BinarySource {
 
   std::string instance_where() const { return "byte offset " + std::to_string(instance_start_); }
 
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw ModelFileError(name_, instance_where(), problem);
-  }
+  [[noreturn]] void fail(const std::string& problem) const { throw ModelFileError(name_, instance_where(), problem); }
 
  private:
   std::size_t remaining() const { return bytes_.size() - pos_; }
@@ -282,8 +276,8 @@ class BinarySource {
   }
 
   [[noreturn]] void truncated() const {
-    fail("body truncated: expected " + count_of(element_->count, element_->name) + ", read " +
-         std::to_string(index_) + " (the file ends at byte " + std::to_string(bytes_.size()) + ")");
+    fail("body truncated: expected " + count_of(element_->count, element_->name) + ", read " + std::to_string(index_) +
+         " (the file ends at byte " + std::to_string(bytes_.size()) + ")");
   }
 
   std::string_view bytes_;
@@ -313,9 +307,9 @@ class AsciiSource {
     const std::uint64_t at_most = (scanner_.remaining() + 1) / per_instance;
     if (element.count > at_most) {
       throw ModelFileError(name_, line_where(scanner_.next_line_number()),
-                           "body truncated: expected " + count_of(element.count, element.name) +
-                               ", but the " + std::to_string(scanner_.remaining()) +
-                               " bytes left can hold at most " + std::to_string(at_most));
+                           "body truncated: expected " + count_of(element.count, element.name) + ", but the " +
+                               std::to_string(scanner_.remaining()) + " bytes left can hold at most " +
+                               std::to_string(at_most));
     }
   }
 
@@ -330,9 +324,9 @@ class AsciiSource {
         return;
       }
     }
-    throw ModelFileError(name_, line_where(scanner_.next_line_number()),
-                         "body truncated: expected " + count_of(element_->count, element_->name) +
-                             ", read " + std::to_string(index));
+    throw ModelFileError(
+        name_, line_where(scanner_.next_line_number()),
+        "body truncated: expected " + count_of(element_->count, element_->name) + ", read " + std::to_string(index));
   }
 
   void end_instance() {
@@ -361,8 +355,8 @@ class AsciiSource {
     const std::string_view token = next_token(property.name);
     std::int64_t length = 0;
     if (!parse_int64(token, length)) {
-      fail(quoted(token) + " is not an integer list length (list " + quoted(property.name) +
-           " of " + instance_name() + ")");
+      fail(quoted(token) + " is not an integer list length (list " + quoted(property.name) + " of " + instance_name() +
+           ")");
     }
     if (length < 0) {
       fail("negative length " + std::to_string(length) + " for list " + quoted(property.name));
@@ -373,8 +367,7 @@ class AsciiSource {
     const std::string_view token = next_token(property.name);
     std::int64_t value = 0;
     if (!parse_int64(token, value)) {
-      fail(quoted(token) + " is not an integer (list " + quoted(property.name) + " of " +
-           instance_name() + ")");
+      fail(quoted(token) + " is not an integer (list " + quoted(property.name) + " of " + instance_name() + ")");
     }
     return value;
   }
@@ -414,23 +407,20 @@ class AsciiSource {
 
   std::string instance_where() const { return line_where(scanner_.line_number()); }
 
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw ModelFileError(name_, instance_where(), problem);
-  }
+  [[noreturn]] void fail(const std::string& problem) const { throw ModelFileError(name_, instance_where(), problem); }
 
  private:
   std::string instance_name() const {
-    const std::string what = element_->name == "vertex" || element_->name == "face"
-                                 ? element_->name
-                                 : quoted(element_->name) + " element";
+    const std::string what =
+        element_->name == "vertex" || element_->name == "face" ? element_->name : quoted(element_->name) + " element";
     return what + " " + std::to_string(index_);
   }
 
   std::string_view next_token(const std::string& property) {
     std::string_view token;
     if (!cursor_.next(token)) {
-      fail("too few values for " + instance_name() + ": the line ends after " +
-           std::to_string(values_used_) + " values, before " + quoted(property));
+      fail("too few values for " + instance_name() + ": the line ends after " + std::to_string(values_used_) +
+           " values, before " + quoted(property));
     }
     ++values_used_;
     return token;
@@ -438,12 +428,11 @@ class AsciiSource {
 
   [[noreturn]] void not_a_number(std::string_view token, const std::string& property) const {
     // A header line below end_header is a common hand-editing slip; name it as such.
-    if (values_used_ == 1 && (token == "property" || token == "element" || token == "comment" ||
-                              token == "end_header")) {
+    if (values_used_ == 1 &&
+        (token == "property" || token == "element" || token == "comment" || token == "end_header")) {
       fail("header line " + quoted(token) + " after end_header");
     }
-    fail(quoted(token) + " is not a number (property " + quoted(property) + " of " +
-         instance_name() + ")");
+    fail(quoted(token) + " is not a number (property " + quoted(property) + " of " + instance_name() + ")");
   }
 
   TextScanner scanner_;
@@ -458,8 +447,7 @@ class AsciiSource {
 // The body walker, shared by both sources.
 
 template <typename Source>
-void read_vertices(Source& source, const PlyElement& vertex, const VertexPlan& plan,
-                   PointModel& model) {
+void read_vertices(Source& source, const PlyElement& vertex, const VertexPlan& plan, PointModel& model) {
   source.begin_element(vertex);
   const auto count = static_cast<std::size_t>(vertex.count);
   model.resize(count, plan.normals, plan.colors, plan.alpha);
@@ -483,8 +471,8 @@ void read_vertices(Source& source, const PlyElement& vertex, const VertexPlan& p
 }
 
 template <typename Source>
-void read_faces(Source& source, const PlyElement& face, std::size_t index_property,
-                std::uint64_t vertex_count, std::size_t body_size, PointModel& model) {
+void read_faces(Source& source, const PlyElement& face, std::size_t index_property, std::uint64_t vertex_count,
+                std::size_t body_size, PointModel& model) {
   source.begin_element(face);
   // Most faces are triangles; reserve for that, but never more than the bytes could hold
   // (a lying face count must not allocate gigabytes).
@@ -537,8 +525,8 @@ std::optional<std::size_t> face_index_property(const PlyElement& face, const std
 }
 
 template <typename Source>
-void read_body(Source& source, const PlyHeader& header, std::size_t file_size,
-               const std::string& name, PointModel& model) {
+void read_body(Source& source, const PlyHeader& header, std::size_t file_size, const std::string& name,
+               PointModel& model) {
   const PlyElement* vertex = nullptr;
   for (const PlyElement& element : header.elements) {
     if (element.name == "vertex") vertex = &element;
@@ -549,8 +537,7 @@ void read_body(Source& source, const PlyHeader& header, std::size_t file_size,
   const VertexPlan plan = plan_vertices(*vertex, name);
   // Triangles hold 32-bit indices.
   if (vertex->count > std::numeric_limits<std::uint32_t>::max()) {
-    throw ModelFileError(name, line_where(vertex->line),
-                         "too many vertices: " + std::to_string(vertex->count));
+    throw ModelFileError(name, line_where(vertex->line), "too many vertices: " + std::to_string(vertex->count));
   }
 
   for (const PlyElement& element : header.elements) {
@@ -587,8 +574,6 @@ PointModel read_ply_from_buffer(std::string_view bytes, const std::string& name_
   return model;
 }
 
-PointModel read_ply(const std::string& path) {
-  return read_ply_from_buffer(read_file_bytes(path), path);
-}
+PointModel read_ply(const std::string& path) { return read_ply_from_buffer(read_file_bytes(path), path); }
 
 }  // namespace sculpt::deform

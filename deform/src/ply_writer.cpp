@@ -29,8 +29,7 @@ const char* format_name(PlyEncoding encoding) {
 // Face indices are written as PLY "int", so every point index must fit one.
 void check_ply_writable(const PointModel& model) {
   check_writable(model, "write_ply");
-  if (!model.triangles.empty() &&
-      model.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
+  if (!model.triangles.empty() && model.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
     throw std::invalid_argument("write_ply: " + std::to_string(model.size()) +
                                 " points are more than a PLY int face index can address");
   }
@@ -81,13 +80,10 @@ void put_bits(char*& p, std::uint32_t bits, bool swap) {
   p += 4;
 }
 
-void put_float(char*& p, float value, bool swap) {
-  put_bits(p, std::bit_cast<std::uint32_t>(value), swap);
-}
+void put_float(char*& p, float value, bool swap) { put_bits(p, std::bit_cast<std::uint32_t>(value), swap); }
 
 void write_binary_body(const PointModel& m, bool swap, std::string& out) {
-  const std::size_t stride =
-      12 + (m.has_normals() ? 12 : 0) + (m.has_colors() ? 3 : 0) + (m.has_alpha() ? 1 : 0);
+  const std::size_t stride = 12 + (m.has_normals() ? 12 : 0) + (m.has_colors() ? 3 : 0) + (m.has_alpha() ? 1 : 0);
   constexpr std::size_t kFaceSize = 1 + 3 * 4;  // uchar count 3, three int indices
   const std::size_t start = out.size();
   out.resize(start + stride * m.size() + kFaceSize * (m.triangles.size() / 3));

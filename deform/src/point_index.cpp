@@ -24,9 +24,7 @@ constexpr std::size_t kLeafSize = 12;
 constexpr double kRelativeSlack = 1e-9;
 constexpr double kAbsoluteSlack = std::numeric_limits<double>::min();
 
-double widened(double squared_bound) {
-  return squared_bound * (1.0 + kRelativeSlack) + kAbsoluteSlack;
-}
+double widened(double squared_bound) { return squared_bound * (1.0 + kRelativeSlack) + kAbsoluteSlack; }
 
 // Squared snapshot-distance bound for candidates that can be within `radius` now, given that no
 // point moved more than `drift`: |q - current| <= r implies |q - snapshot| <= r + drift.
@@ -37,8 +35,7 @@ double search_bound(double radius, double drift) {
 
 // Squared distance from q to point i of the model at its current position. One function so
 // every exact test in this file uses the same arithmetic.
-inline double current_squared_distance(const PointModel& model, std::uint32_t i,
-                                       const double* q) {
+inline double current_squared_distance(const PointModel& model, std::uint32_t i, const double* q) {
   const double dx = static_cast<double>(model.x[i]) - q[0];
   const double dy = static_cast<double>(model.y[i]) - q[1];
   const double dz = static_cast<double>(model.z[i]) - q[2];
@@ -72,13 +69,12 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, Snapshot, 3, std::uint3
 // shrinks the snapshot bound to (best current distance + drift) as better points turn up.
 class NearestCollector {
  public:
-  NearestCollector(const PointModel& model, const double* q, double drift)
-      : model_(model), q_(q), drift_(drift) {}
+  NearestCollector(const PointModel& model, const double* q, double drift) : model_(model), q_(q), drift_(drift) {}
 
   std::size_t size() const { return best_index_ == PointIndex::kNoPoint ? 0 : 1; }
   bool full() const { return true; }
-  double worstDist() const { return bound_; }
-  bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {
+  double worstDist() const { return bound_; }  // NOLINT(readability-identifier-naming): nanoflann calls it
+  bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {  // NOLINT(readability-identifier-naming)
     const double d2 = current_squared_distance(model_, i, q_);
     if (d2 < best_squared_ || (d2 == best_squared_ && i < best_index_)) {
       best_squared_ = d2;
@@ -107,16 +103,12 @@ class RadiusCollector {
  public:
   RadiusCollector(const PointModel& model, const double* q, double radius, double drift,
                   std::vector<std::uint32_t>& out)
-      : model_(model),
-        q_(q),
-        radius_squared_(radius * radius),
-        bound_(search_bound(radius, drift)),
-        out_(out) {}
+      : model_(model), q_(q), radius_squared_(radius * radius), bound_(search_bound(radius, drift)), out_(out) {}
 
   std::size_t size() const { return out_.size(); }
   bool full() const { return true; }
-  double worstDist() const { return bound_; }
-  bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {
+  double worstDist() const { return bound_; }  // NOLINT(readability-identifier-naming): nanoflann calls it
+  bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {  // NOLINT(readability-identifier-naming)
     if (current_squared_distance(model_, i, q_) > radius_squared_) return true;
     if (out_.size() < out_.capacity()) {
       out_.push_back(i);
@@ -143,8 +135,8 @@ struct PointIndex::Impl {
   // Built lazily by buildIndex(); holds a reference to `points`, so Impl never moves (it lives
   // behind a unique_ptr).
   Tree tree{3, points,
-            nanoflann::KDTreeSingleIndexAdaptorParams(
-                kLeafSize, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex)};
+            nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize,
+                                                      nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex)};
 };
 
 PointIndex::PointIndex() = default;
@@ -156,8 +148,7 @@ PointIndex& PointIndex::operator=(PointIndex&&) noexcept = default;
 void PointIndex::rebuild(const PointModel& model) {
   const std::size_t n = model.size();
   if (n >= kNoPoint) {
-    throw std::invalid_argument("point index: " + std::to_string(n) +
-                                " points exceed the 32-bit index range");
+    throw std::invalid_argument("point index: " + std::to_string(n) + " points exceed the 32-bit index range");
   }
   if (model.y.size() != n || model.z.size() != n) {
     throw std::invalid_argument("point index: coordinate arrays differ in length");
@@ -184,8 +175,7 @@ bool PointIndex::indexes(const PointModel& model) const noexcept {
   return impl_ && model.size() == size() && model.y.size() == size() && model.z.size() == size();
 }
 
-PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q,
-                                        double drift) const noexcept {
+PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q, double drift) const noexcept {
   if (size() == 0 || !indexes(model)) return {kNoPoint, std::numeric_limits<double>::infinity()};
   const double query[3] = {q.x, q.y, q.z};
   NearestCollector collector(model, query, std::max(drift, 0.0));
@@ -197,8 +187,8 @@ PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q,
   return {collector.best_index(), std::sqrt(collector.best_squared())};
 }
 
-bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double radius,
-                               std::vector<std::uint32_t>& out, double drift) const noexcept {
+bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double radius, std::vector<std::uint32_t>& out,
+                               double drift) const noexcept {
   out.clear();
   if (!indexes(model) && !(size() == 0 && model.empty())) return false;
   if (size() == 0 || !(radius >= 0.0)) return true;

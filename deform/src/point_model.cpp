@@ -54,9 +54,8 @@ void PointModel::validate() const {
   const std::size_t n = size();
   auto check = [n](std::size_t got, bool optional, const char* what) {
     if (got != n && !(optional && got == 0)) {
-      throw std::invalid_argument(std::string("point model: attribute '") + what + "' has " +
-                                  std::to_string(got) + " entries for " + std::to_string(n) +
-                                  " points");
+      throw std::invalid_argument(std::string("point model: attribute '") + what + "' has " + std::to_string(got) +
+                                  " entries for " + std::to_string(n) + " points");
     }
   };
   check(y.size(), false, "y");
@@ -73,9 +72,8 @@ void PointModel::validate() const {
   }
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     if (triangles[t] >= n) {
-      throw std::invalid_argument("point model: triangle " + std::to_string(t / 3) +
-                                  " refers to point " + std::to_string(triangles[t]) +
-                                  " of " + std::to_string(n));
+      throw std::invalid_argument("point model: triangle " + std::to_string(t / 3) + " refers to point " +
+                                  std::to_string(triangles[t]) + " of " + std::to_string(n));
     }
   }
   for (std::size_t i = 0; i < n; ++i) {

@@ -7,8 +7,7 @@
 
 namespace sculpt::deform {
 
-Region::Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index,
-               double bc_radius)
+Region::Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index, double bc_radius)
     : settings_(settings),
       border_width_(settings.border_width > 0.0 ? settings.border_width : bc_radius),
       min_radius_(1.01 * (bc_radius + border_width_)) {
@@ -36,8 +35,8 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
     points_.erase(std::unique(points_.begin(), points_.end()), points_.end());
     if (points_.empty()) throw std::invalid_argument("region: the index set is empty");
     if (points_.back() >= n) {
-      throw std::invalid_argument("region: index " + std::to_string(points_.back()) +
-                                  " is outside the model's " + std::to_string(n) + " points");
+      throw std::invalid_argument("region: index " + std::to_string(points_.back()) + " is outside the model's " +
+                                  std::to_string(n) + " points");
     }
     for (std::uint32_t i : points_) member_[i] = 1;
     // Band: region points with a point outside the region within the border width.
@@ -51,8 +50,7 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
   }
 }
 
-void Region::build(const PointModel& model, const PointIndex& index, double drift,
-                   std::span<const Vec3> contacts) {
+void Region::build(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts) {
   if (settings_.kind != RegionSettings::Kind::kRadius) return;  // fixed for the others
   points_.clear();
   border_.clear();
@@ -71,8 +69,8 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   for (std::uint32_t i : points_) {
     member_[i] = 0;
     const Vec3 q = model.position(i);
-    const bool deep = std::any_of(contacts.begin(), contacts.end(),
-                                  [&](const Vec3& c) { return norm(q - c) <= inner; });
+    const bool deep =
+        std::any_of(contacts.begin(), contacts.end(), [&](const Vec3& c) { return norm(q - c) <= inner; });
     if (!deep) border_.push_back(i);
   }
 }

@@ -13,8 +13,8 @@ namespace {
 [[noreturn]] void refuse(const std::ostringstream& text) { throw std::invalid_argument(text.str()); }
 
 void append_limit(std::ostringstream& text, const ModelExtent& extent) {
-  text << ", more than " << kMaxDiagonals << " bounding-box diagonals of the model (its diagonal is "
-       << extent.diagonal << ")";
+  text << ", more than " << kMaxDiagonals << " bounding-box diagonals of the model (its diagonal is " << extent.diagonal
+       << ")";
 }
 
 }  // namespace

@@ -10,14 +10,10 @@
 namespace sculpt::deform {
 
 /// Whitespace between tokens. '\r' counts so that "\r\n" files need no special casing.
-inline bool is_blank(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
+inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
 /// "line N", the <where> of text errors.
-inline std::string line_where(std::size_t line_number) {
-  return "line " + std::to_string(line_number);
-}
+inline std::string line_where(std::size_t line_number) { return "line " + std::to_string(line_number); }
 
 /// A token quoted for an error message: at most 40 characters, non-printable bytes as '?', so
 /// a binary file misread as text cannot produce a megabyte-long message.
@@ -60,8 +56,7 @@ class TextScanner {
     const std::size_t left = text_.size() - pos_;
     const void* newline = std::memchr(begin, '\n', left);
     const std::size_t length =
-        newline != nullptr ? static_cast<std::size_t>(static_cast<const char*>(newline) - begin)
-                           : left;
+        newline != nullptr ? static_cast<std::size_t>(static_cast<const char*>(newline) - begin) : left;
     pos_ += newline != nullptr ? length + 1 : length;
     line = std::string_view(begin, length);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);

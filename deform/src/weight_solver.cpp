@@ -19,8 +19,7 @@ namespace sculpt::deform {
 namespace {
 
 constexpr int kMaxUnknowns = 3 * static_cast<int>(kMaxSources);
-using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor,
-                                  kMaxUnknowns, kMaxUnknowns>;
+using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxUnknowns, kMaxUnknowns>;
 using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxUnknowns, 1>;
 
 // The upper-triangular factor R of [A | b] built one row at a time with Givens rotations:
@@ -74,8 +73,8 @@ void SolverOptions::validate() const {
 
 SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetup> sources,
                                 std::span<const DisplacementCondition> displacements,
-                                std::span<const TractionCondition> tractions,
-                                std::span<Vec3> weights, std::span<Vec3> effective) const noexcept {
+                                std::span<const TractionCondition> tractions, std::span<Vec3> weights,
+                                std::span<Vec3> effective) const noexcept {
   SolveReport report;
   const std::size_t n = std::min({sources.size(), kMaxSources, weights.size(), effective.size()});
   const int unknowns = static_cast<int>(3 * n);

@@ -45,15 +45,14 @@ PointModel read_xyz_from_buffer(std::string_view text, const std::string& name_f
       columns = n;
       first_point_line = scanner.line_number();
     } else if (n != columns) {
-      fail("expected " + std::to_string(columns) + " values like line " +
-           std::to_string(first_point_line) + ", found " + std::to_string(n));
+      fail("expected " + std::to_string(columns) + " values like line " + std::to_string(first_point_line) +
+           ", found " + std::to_string(n));
     }
     const std::size_t i = model.size();
     float v[6] = {};
     for (std::size_t k = 0; k < columns; ++k) {
       if (!parse_float(tokens[k], v[k])) {
-        fail(quoted(tokens[k]) + " is not a number (" + kColumnNames[k] + " of point " +
-             std::to_string(i) + ")");
+        fail(quoted(tokens[k]) + " is not a number (" + kColumnNames[k] + " of point " + std::to_string(i) + ")");
       }
       // A non-finite normal is a missing one, for check_normals() to handle.
       if (k < 3 && !std::isfinite(v[k])) {
@@ -74,8 +73,6 @@ PointModel read_xyz_from_buffer(std::string_view text, const std::string& name_f
   return model;
 }
 
-PointModel read_xyz(const std::string& path) {
-  return read_xyz_from_buffer(read_file_bytes(path), path);
-}
+PointModel read_xyz(const std::string& path) { return read_xyz_from_buffer(read_file_bytes(path), path); }
 
 }  // namespace sculpt::deform

@@ -28,10 +28,8 @@ namespace {
 
 std::unique_ptr<GloveSource> make_glove_source(const GloveConfig& c) {
   switch (c.backend) {
-    case Backend::kSim:
-      return std::make_unique<SimGloveSource>(c.sim, c.queue_capacity);
-    case Backend::kSerial:
-      return std::make_unique<SerialGloveSource>(c.serial, c.queue_capacity);
+    case Backend::kSim: return std::make_unique<SimGloveSource>(c.sim, c.queue_capacity);
+    case Backend::kSerial: return std::make_unique<SerialGloveSource>(c.serial, c.queue_capacity);
     case Backend::kUsb:
 #if SCULPT_HAS_USB
       return std::make_unique<UsbGloveSource>(c.usb, c.queue_capacity);
@@ -56,10 +54,8 @@ std::unique_ptr<GloveSource> make_glove_source(const GloveConfig& c) {
 
 std::unique_ptr<HapticSink> make_haptic_sink(const HapticConfig& c) {
   switch (c.sink) {
-    case SinkKind::kNone:
-      return nullptr;
-    case SinkKind::kSerial:
-      return std::make_unique<SerialHapticSink>(c.serial, c.queue_capacity);
+    case SinkKind::kNone: return nullptr;
+    case SinkKind::kSerial: return std::make_unique<SerialHapticSink>(c.serial, c.queue_capacity);
     case SinkKind::kLcm:
 #if SCULPT_HAS_LCM
       return std::make_unique<LcmHapticSink>(c.lcm, c.queue_capacity);

@@ -10,8 +10,8 @@ namespace {
 
 constexpr std::size_t kHeaderBytes = 1;
 constexpr std::size_t kCrcBytes = 4;
-constexpr unsigned kIndexMask = 0x3F;  // header bits 5..0: segment index
-constexpr unsigned kSeqShift = 6;      // header bits 7..6: low bits of the sequence or tick
+constexpr unsigned kIndexMask = 0x3F;                 // header bits 5..0: segment index
+constexpr unsigned kSeqShift = 6;                     // header bits 7..6: low bits of the sequence or tick
 constexpr std::size_t kSampleFixedBytes = 1 + 4 + 8;  // kind, sequence, device time
 constexpr std::size_t kPositionFloats = kJointPoints * 3;
 constexpr std::size_t kAngleFloats = kFingers * 4 + 3 + 4;  // finger angles, wrist position, quaternion
@@ -64,8 +64,8 @@ bool ids_fit(std::uint32_t base_id) noexcept { return base_id <= kCanMaxExtended
 
 // Splits message[0..size) into frames: header byte, then the chunk; the last frame is as
 // short as its bytes allow (FD: padded with zeros to a valid length).
-std::size_t split(const std::uint8_t* message, std::size_t size, std::uint32_t first_id, bool sample_ids,
-                  unsigned seq, bool fd, std::span<CanFrame> out) noexcept {
+std::size_t split(const std::uint8_t* message, std::size_t size, std::uint32_t first_id, bool sample_ids, unsigned seq,
+                  bool fd, std::span<CanFrame> out) noexcept {
   const std::size_t chunk = chunk_size(fd);
   const std::size_t count = can_segment_count(size, fd);
   if (out.size() < count) return 0;
@@ -106,10 +106,8 @@ std::uint8_t can_fd_round_up(std::size_t n) noexcept {
 
 std::size_t can_sample_message_size(SampleKind kind) noexcept {
   switch (kind) {
-    case SampleKind::kPositions:
-      return kSampleFixedBytes + kPositionFloats * 4 + kCrcBytes;
-    case SampleKind::kAngles:
-      return kSampleFixedBytes + kAngleFloats * 4 + kCrcBytes;
+    case SampleKind::kPositions: return kSampleFixedBytes + kPositionFloats * 4 + kCrcBytes;
+    case SampleKind::kAngles: return kSampleFixedBytes + kAngleFloats * 4 + kCrcBytes;
   }
   return 0;
 }
@@ -119,8 +117,7 @@ std::size_t can_segment_count(std::size_t message_size, bool fd) noexcept {
   return (message_size + chunk - 1) / chunk;
 }
 
-std::size_t encode_sample(const GloveSample& sample, std::uint32_t base_id, bool fd,
-                          std::span<CanFrame> out) noexcept {
+std::size_t encode_sample(const GloveSample& sample, std::uint32_t base_id, bool fd, std::span<CanFrame> out) noexcept {
   const std::size_t size = can_sample_message_size(sample.kind);
   if (size == 0 || sample.hand >= kHands || !ids_fit(base_id)) return 0;
   std::array<std::uint8_t, kCanMaxMessage> message{};
@@ -151,8 +148,8 @@ std::size_t encode_haptic(const HapticCommand& command, std::uint32_t base_id, b
   for (const Point3f& f : command.force)
     for (const float c : f) w.f32(c);
   append_crc(message.data(), kHapticPayload);
-  return split(message.data(), kCanHapticMessageSize, base_id + kCanHapticOffset + command.hand, false,
-               command.tick, fd, out);
+  return split(message.data(), kCanHapticMessageSize, base_id + kCanHapticOffset + command.hand, false, command.tick,
+               fd, out);
 }
 
 // --- reassembly ---------------------------------------------------------------------------
@@ -186,8 +183,8 @@ bool CanReassembler::is_duplicate(const CanFrame& frame, unsigned index, unsigne
 }
 
 CanFeedResult CanReassembler::feed(const CanFrame& frame) noexcept {
-  const bool ours = sample_ids_ ? (frame.id >= first_id_ && frame.id - first_id_ < kCanHandStride)
-                                : frame.id == first_id_;
+  const bool ours =
+      sample_ids_ ? (frame.id >= first_id_ && frame.id - first_id_ < kCanHandStride) : frame.id == first_id_;
   if (!ours) return CanFeedResult::kIgnored;
   ++counters_.frames;
 

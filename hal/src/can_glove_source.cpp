@@ -41,8 +41,7 @@ int open_can_socket(const std::string& interface, bool fd, bool error_frames) {
     if (e == EAFNOSUPPORT || e == EPROTONOSUPPORT)
       throw std::runtime_error("socketcan: AF_CAN is not available on this kernel (" + errno_text(e) +
                                "; load the can and can_raw modules)");
-    throw std::runtime_error("socketcan: cannot open a raw CAN socket for '" + interface + "' (" +
-                             errno_text(e) + ")");
+    throw std::runtime_error("socketcan: cannot open a raw CAN socket for '" + interface + "' (" + errno_text(e) + ")");
   }
   const auto fail = [&](const std::string& what, int e) {
     ::close(s);

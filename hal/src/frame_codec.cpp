@@ -17,8 +17,7 @@ static_assert(cobs_max_encoded_size(kMaxBodyBytes) + 1 <= kMaxFrameBytes,
 
 std::uint32_t crc32_of(std::span<const std::uint8_t> bytes) noexcept {
   // zlib's crc32 takes a uInt length; bodies are a few hundred bytes.
-  return static_cast<std::uint32_t>(
-      ::crc32(::crc32(0L, Z_NULL, 0), bytes.data(), static_cast<uInt>(bytes.size())));
+  return static_cast<std::uint32_t>(::crc32(::crc32(0L, Z_NULL, 0), bytes.data(), static_cast<uInt>(bytes.size())));
 }
 
 // Writes little-endian values by shifting, so the layout does not depend on the host.
@@ -79,8 +78,7 @@ void write_header(BodyWriter& w, FrameType type, std::uint8_t hand, std::uint32_
 }
 
 // Appends the CRC, COBS-encodes and terminates. Returns the bytes written to out, 0 if short.
-std::size_t finish_frame(std::span<std::uint8_t> body, BodyWriter& w,
-                         std::span<std::uint8_t> out) noexcept {
+std::size_t finish_frame(std::span<std::uint8_t> body, BodyWriter& w, std::span<std::uint8_t> out) noexcept {
   const std::size_t covered = w.size();
   w.u32(crc32_of(body.first(covered)));
   const std::size_t n = cobs_encode(body.first(w.size()), out.first(out.size() - 1));
@@ -120,8 +118,8 @@ std::size_t encode_sample_frame(const GloveSample& s, std::span<std::uint8_t> ou
   return finish_frame(body, w, out);
 }
 
-std::size_t encode_haptic_frame(const HapticCommand& c, std::uint32_t sequence,
-                                std::uint64_t device_time_us, std::span<std::uint8_t> out) noexcept {
+std::size_t encode_haptic_frame(const HapticCommand& c, std::uint32_t sequence, std::uint64_t device_time_us,
+                                std::span<std::uint8_t> out) noexcept {
   if (out.size() < kMaxFrameBytes) return 0;
   std::array<std::uint8_t, kMaxBodyBytes> body;
   BodyWriter w(body);

@@ -49,11 +49,11 @@ std::array<FingerBones, kFingers> HandModel::default_bones() noexcept {
   // Typical adult proportions (phalanx lengths after Alexander & Viktor's hand anthropometry,
   // rounded to millimetres); bases are rough knuckle positions from the wrist's centre.
   return {{
-      {{0.025f, 0.020f, -0.010f}, 0.70f, 0.046f, 0.032f, 0.027f},  // thumb: CMC, splayed out
-      {{0.090f, 0.024f, 0.000f}, 0.05f, 0.040f, 0.023f, 0.018f},   // index
-      {{0.093f, 0.002f, 0.000f}, 0.00f, 0.045f, 0.027f, 0.019f},   // middle
-      {{0.088f, -0.018f, 0.000f}, -0.05f, 0.042f, 0.026f, 0.019f}, // ring
-      {{0.080f, -0.034f, -0.003f}, -0.12f, 0.033f, 0.018f, 0.017f},// little
+      {{0.025f, 0.020f, -0.010f}, 0.70f, 0.046f, 0.032f, 0.027f},    // thumb: CMC, splayed out
+      {{0.090f, 0.024f, 0.000f}, 0.05f, 0.040f, 0.023f, 0.018f},     // index
+      {{0.093f, 0.002f, 0.000f}, 0.00f, 0.045f, 0.027f, 0.019f},     // middle
+      {{0.088f, -0.018f, 0.000f}, -0.05f, 0.042f, 0.026f, 0.019f},   // ring
+      {{0.080f, -0.034f, -0.003f}, -0.12f, 0.033f, 0.018f, 0.017f},  // little
   }};
 }
 
@@ -71,8 +71,8 @@ HandModel::HandModel(const std::array<FingerBones, kFingers>& bones) : bones_(bo
   }
 }
 
-std::array<Point3f, kJointPoints> HandModel::joints_from_angles(
-    const std::array<FingerAngles, kFingers>& angles, const WristPose& wrist) const noexcept {
+std::array<Point3f, kJointPoints> HandModel::joints_from_angles(const std::array<FingerAngles, kFingers>& angles,
+                                                                const WristPose& wrist) const noexcept {
   const Rotation r = rotation_from(wrist.orientation);
   std::array<Point3f, kJointPoints> joints{};
   for (std::size_t f = 0; f < kFingers; ++f) {

@@ -48,8 +48,8 @@ void LcmGloveSource::start() {
       owned_.reset();
       lcm_ = nullptr;
     }
-    throw std::runtime_error("LCM glove source: cannot subscribe to '" + config_.glove_channel +
-                             "' on '" + config_.url + "'");
+    throw std::runtime_error("LCM glove source: cannot subscribe to '" + config_.glove_channel + "' on '" +
+                             config_.url + "'");
   }
   sequence_.reset();
   stop_requested_.store(false, std::memory_order_relaxed);

@@ -17,8 +17,7 @@ constexpr std::size_t kMaxEncodedSize = 256;
 
 }  // namespace
 
-LcmHapticSink::LcmHapticSink(const LcmConfig& config, std::size_t queue_capacity,
-                             std::chrono::microseconds poll_period)
+LcmHapticSink::LcmHapticSink(const LcmConfig& config, std::size_t queue_capacity, std::chrono::microseconds poll_period)
     : config_(config), poll_period_(poll_period), queue_(queue_capacity) {}
 
 LcmHapticSink::LcmHapticSink(lcm::LCM& shared, const LcmConfig& config, std::size_t queue_capacity,
@@ -66,10 +65,9 @@ std::size_t LcmHapticSink::drain() noexcept {
     ++sent;
     to_lcm(command, base::wall_time_us(), message);
     const int size = message.getEncodedSize();
-    const bool encoded = size > 0 && static_cast<std::size_t>(size) <= buffer.size() &&
-                         message.encode(buffer.data(), 0, size) == size;
-    if (encoded &&
-        lcm_->publish(config_.haptic_channel, buffer.data(), static_cast<unsigned>(size)) == 0) {
+    const bool encoded =
+        size > 0 && static_cast<std::size_t>(size) <= buffer.size() && message.encode(buffer.data(), 0, size) == size;
+    if (encoded && lcm_->publish(config_.haptic_channel, buffer.data(), static_cast<unsigned>(size)) == 0) {
       published_.fetch_add(1, std::memory_order_relaxed);
     } else {
       publish_errors_.fetch_add(1, std::memory_order_relaxed);

@@ -23,14 +23,11 @@ bool all_finite(const float (&values)[R][C]) noexcept {
   return true;
 }
 
-bool valid_hand(std::int8_t hand) noexcept {
-  return hand >= 0 && static_cast<std::size_t>(hand) < hal::kHands;
-}
+bool valid_hand(std::int8_t hand) noexcept { return hand >= 0 && static_cast<std::size_t>(hand) < hal::kHands; }
 
 }  // namespace
 
-void to_lcm(const hal::GloveSample& sample, std::int64_t utime,
-            sculpt_lcm::glove_sample_t& out) noexcept {
+void to_lcm(const hal::GloveSample& sample, std::int64_t utime, sculpt_lcm::glove_sample_t& out) noexcept {
   out.utime = utime;
   // A device clock beyond 2^63 us (292,000 years) is not a real clock; saturate rather than wrap.
   out.device_time_us = sample.device_time_us > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())
@@ -57,8 +54,8 @@ bool from_lcm(const sculpt_lcm::glove_sample_t& message, hal::GloveSample& out) 
     return false;
   }
   if (message.device_time_us < 0) return false;
-  if (!all_finite(message.joints) || !all_finite(message.angles) ||
-      !all_finite(message.position) || !all_finite(message.orientation)) {
+  if (!all_finite(message.joints) || !all_finite(message.angles) || !all_finite(message.position) ||
+      !all_finite(message.orientation)) {
     return false;
   }
   out.hand = static_cast<std::uint8_t>(message.hand);
@@ -76,8 +73,7 @@ bool from_lcm(const sculpt_lcm::glove_sample_t& message, hal::GloveSample& out) 
   return true;
 }
 
-void to_lcm(const hal::HapticCommand& command, std::int64_t utime,
-            sculpt_lcm::haptic_command_t& out) noexcept {
+void to_lcm(const hal::HapticCommand& command, std::int64_t utime, sculpt_lcm::haptic_command_t& out) noexcept {
   out.utime = utime;
   out.tick = command.tick;
   out.hand = static_cast<std::int8_t>(command.hand);

@@ -60,12 +60,11 @@ std::size_t SerialFrameWriter::pump_input() noexcept {
       port_.close();
       break;
     }
-    decoder_.feed(std::span<const std::uint8_t>(input_.data(), r.bytes),
-                  [&](const DecodedFrame& frame) {
-                    if (frame.type != DecodedFrame::Type::kHaptic) return;
-                    ++received;
-                    last_haptic_ = frame.haptic;
-                  });
+    decoder_.feed(std::span<const std::uint8_t>(input_.data(), r.bytes), [&](const DecodedFrame& frame) {
+      if (frame.type != DecodedFrame::Type::kHaptic) return;
+      ++received;
+      last_haptic_ = frame.haptic;
+    });
   }
   haptic_frames_ += received;
   return received;

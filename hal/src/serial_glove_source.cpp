@@ -47,7 +47,7 @@ SerialGloveSource::~SerialGloveSource() {
 
 void SerialGloveSource::start() {
   if (thread_.joinable()) throw std::runtime_error("serial glove " + config_.device + ": already started");
-  struct stat st{};
+  struct stat st {};
   if (::stat(config_.device.c_str(), &st) == 0 && !S_ISCHR(st.st_mode)) {
     throw std::runtime_error("serial glove " + config_.device +
                              ": exists but is not a character device (a serial port or pty)");
@@ -87,9 +87,7 @@ std::size_t SerialGloveSource::poll(std::span<GloveSample> out) noexcept {
 
 SourceCounters SerialGloveSource::counters() const noexcept { return counters_.snapshot(); }
 
-SourceState SerialGloveSource::state() const noexcept {
-  return state_.load(std::memory_order_acquire);
-}
+SourceState SerialGloveSource::state() const noexcept { return state_.load(std::memory_order_acquire); }
 
 std::string SerialGloveSource::last_error() const {
   const std::lock_guard lock(error_mutex_);

@@ -28,8 +28,7 @@ SerialHapticSink::SerialHapticSink(const SerialConfig& config, std::size_t queue
     : config_(config), queue_(queue_capacity == 0 ? 2 : queue_capacity) {
   validate_serial_config(config_, "serial haptic sink");
   if (queue_capacity == 0) {
-    throw std::invalid_argument("serial haptic sink " + config_.device +
-                                ": queue_capacity must be > 0");
+    throw std::invalid_argument("serial haptic sink " + config_.device + ": queue_capacity must be > 0");
   }
   wake_fd_ = make_wake_fd(std::string("serial haptic sink ") + config_.device);
 }
@@ -43,7 +42,7 @@ void SerialHapticSink::start() {
   if (thread_.joinable()) {
     throw std::runtime_error("serial haptic sink " + config_.device + ": already started");
   }
-  struct stat st{};
+  struct stat st {};
   if (::stat(config_.device.c_str(), &st) == 0 && !S_ISCHR(st.st_mode)) {
     throw std::runtime_error("serial haptic sink " + config_.device +
                              ": exists but is not a character device (a serial port or pty)");
@@ -56,8 +55,7 @@ void SerialHapticSink::start() {
   } catch (const std::system_error& e) {
     port_.close();
     connected_.store(false, std::memory_order_release);
-    throw std::runtime_error("serial haptic sink " + config_.device +
-                             ": cannot start I/O thread: " + e.what());
+    throw std::runtime_error("serial haptic sink " + config_.device + ": cannot start I/O thread: " + e.what());
   }
 }
 
@@ -83,17 +81,11 @@ bool SerialHapticSink::send(const HapticCommand& command) noexcept {
   return true;
 }
 
-std::uint64_t SerialHapticSink::dropped() const noexcept {
-  return dropped_.load(std::memory_order_relaxed);
-}
+std::uint64_t SerialHapticSink::dropped() const noexcept { return dropped_.load(std::memory_order_relaxed); }
 
-std::uint64_t SerialHapticSink::frames_written() const noexcept {
-  return written_.load(std::memory_order_relaxed);
-}
+std::uint64_t SerialHapticSink::frames_written() const noexcept { return written_.load(std::memory_order_relaxed); }
 
-bool SerialHapticSink::connected() const noexcept {
-  return connected_.load(std::memory_order_acquire);
-}
+bool SerialHapticSink::connected() const noexcept { return connected_.load(std::memory_order_acquire); }
 
 bool SerialHapticSink::try_connect() noexcept {
   try {
@@ -139,8 +131,8 @@ void SerialHapticSink::deliver(const HapticCommand& command) noexcept {
     dropped_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  const std::size_t n = encode_haptic_frame(command, sequence_++, base::monotonic_now_us(),
-                                            std::span<std::uint8_t>(frame_).subspan(1));
+  const std::size_t n =
+      encode_haptic_frame(command, sequence_++, base::monotonic_now_us(), std::span<std::uint8_t>(frame_).subspan(1));
   const std::size_t begin = cut_frame_on_line_ ? 0 : 1;  // frame_[0] is a zero delimiter
   std::size_t sent = 0;
   if (write_frame(std::span<const std::uint8_t>(frame_.data() + begin, 1 + n - begin), sent)) {

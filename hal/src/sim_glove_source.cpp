@@ -11,7 +11,6 @@
 namespace sculpt::hal {
 namespace {
 
-constexpr std::int64_t kNsPerS = 1'000'000'000;
 // The thread wakes at least this often while waiting, so stop() never waits on a long gap
 // between samples.
 constexpr std::int64_t kMaxSleepNs = 20'000'000;
@@ -54,8 +53,7 @@ void SimGloveSource::run() noexcept {
       finished_.store(true, std::memory_order_release);
       return;
     }
-    const std::int64_t due =
-        start_ns_ + static_cast<std::int64_t>(sample.device_time_us) * 1000 + latency_ns_;
+    const std::int64_t due = start_ns_ + static_cast<std::int64_t>(sample.device_time_us) * 1000 + latency_ns_;
     for (std::int64_t now = base::monotonic_now_ns(); now < due; now = base::monotonic_now_ns()) {
       if (stop_requested_.load(std::memory_order_acquire)) return;
       base::sleep_until_ns(std::min(due, now + kMaxSleepNs));

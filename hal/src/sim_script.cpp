@@ -67,12 +67,11 @@ SimScript::SimScript(const SimConfig& config)
       const std::string kf = field + ".keyframes[" + std::to_string(k) + "]";
       if (!std::isfinite(key.time_s) || key.time_s < 0.0)
         fail(kf, "time " + number(key.time_s) + " s is not a finite value >= 0");
-      if (!std::isfinite(key.x) || !std::isfinite(key.y) || !std::isfinite(key.z))
-        fail(kf, "position is not finite");
+      if (!std::isfinite(key.x) || !std::isfinite(key.y) || !std::isfinite(key.z)) fail(kf, "position is not finite");
       // Equal times are allowed: they make an instant step, e.g. a finger placed on contact.
       if (k > 0 && key.time_s < f.keyframes[k - 1].time_s)
-        fail(kf, "time goes backwards (" + number(key.time_s) + " s after " +
-                     number(f.keyframes[k - 1].time_s) + " s)");
+        fail(kf,
+             "time goes backwards (" + number(key.time_s) + " s after " + number(f.keyframes[k - 1].time_s) + " s)");
     }
     int& slot = script_of_[f.hand][f.finger];
     if (slot != kUnscripted)
@@ -117,8 +116,8 @@ Point3f SimScript::interpolate(const std::vector<Keyframe>& keys, double t_s) co
   if (chosen != nullptr)
     return {static_cast<float>(chosen->x), static_cast<float>(chosen->y), static_cast<float>(chosen->z)};
   // First keyframe strictly after t; the one before it is at or before t.
-  const auto after = std::upper_bound(keys.begin(), keys.end(), t_s,
-                                      [](double t, const Keyframe& k) { return t < k.time_s; });
+  const auto after =
+      std::upper_bound(keys.begin(), keys.end(), t_s, [](double t, const Keyframe& k) { return t < k.time_s; });
   const Keyframe& b = *after;
   const Keyframe& a = *(after - 1);
   const double span = b.time_s - a.time_s;  // > 0: a.time <= t < b.time
@@ -127,8 +126,7 @@ Point3f SimScript::interpolate(const std::vector<Keyframe>& keys, double t_s) co
           static_cast<float>(a.z + w * (b.z - a.z))};
 }
 
-bool SimScript::scripted_tip(std::uint8_t hand, std::uint8_t finger, double t_s,
-                             Point3f& out) const noexcept {
+bool SimScript::scripted_tip(std::uint8_t hand, std::uint8_t finger, double t_s, Point3f& out) const noexcept {
   if (hand >= kHands || finger >= kFingers) return false;
   const int s = script_of_[hand][finger];
   if (s == kUnscripted) return false;

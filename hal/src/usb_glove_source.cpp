@@ -17,7 +17,8 @@ constexpr int kEventTimeoutUs = 50'000;  // how long stop() may wait for the eve
 
 std::string ids(const UsbConfig& c) {
   char text[16];
-  std::snprintf(text, sizeof text, "%04x:%04x", static_cast<unsigned>(c.vendor_id), static_cast<unsigned>(c.product_id));
+  std::snprintf(text, sizeof text, "%04x:%04x", static_cast<unsigned>(c.vendor_id),
+                static_cast<unsigned>(c.product_id));
   return text;
 }
 
@@ -138,8 +139,7 @@ void UsbGloveSource::start() {
     if (any_in_flight) {
       for (std::size_t i = 0; i < kTransfers; ++i)
         if (in_flight_[i]) libusb_cancel_transfer(transfers_[i]);
-      while (in_flight_[0] || in_flight_[1] || in_flight_[2] || in_flight_[3])
-        libusb_handle_events(context_);
+      while (in_flight_[0] || in_flight_[1] || in_flight_[2] || in_flight_[3]) libusb_handle_events(context_);
     }
     close_device();
     stop();
@@ -150,8 +150,8 @@ void UsbGloveSource::start() {
   }
   if (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG)) {
     if (libusb_hotplug_register_callback(context_, LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED, LIBUSB_HOTPLUG_NO_FLAGS,
-                                         config_.vendor_id, config_.product_id, LIBUSB_HOTPLUG_MATCH_ANY,
-                                         &on_hotplug, this, &hotplug_handle_) == 0)
+                                         config_.vendor_id, config_.product_id, LIBUSB_HOTPLUG_MATCH_ANY, &on_hotplug,
+                                         this, &hotplug_handle_) == 0)
       hotplug_registered_ = true;
   }
   stop_requested_.store(false, std::memory_order_relaxed);
@@ -198,14 +198,9 @@ void UsbGloveSource::on_transfer(libusb_transfer* t) noexcept {
   if (i == kTransfers) return;
   in_flight_[i] = false;
   switch (t->status) {
-    case LIBUSB_TRANSFER_COMPLETED:
-      on_bytes(t->buffer, static_cast<std::size_t>(t->actual_length));
-      break;
-    case LIBUSB_TRANSFER_NO_DEVICE:
-      lost_device();
-      return;
-    case LIBUSB_TRANSFER_CANCELLED:
-      return;
+    case LIBUSB_TRANSFER_COMPLETED: on_bytes(t->buffer, static_cast<std::size_t>(t->actual_length)); break;
+    case LIBUSB_TRANSFER_NO_DEVICE: lost_device(); return;
+    case LIBUSB_TRANSFER_CANCELLED: return;
     default:  // error, stall, overflow, timeout: the bytes are gone; the decoder resyncs
       counters_.framing_errors.fetch_add(1, std::memory_order_relaxed);
       break;

@@ -54,8 +54,8 @@ DurableLog::DurableLog(DurableLogConfig config)
     std::error_code error;
     std::filesystem::create_directories(path.parent_path(), error);
     if (error) {
-      throw std::runtime_error("DurableLog: cannot create folder '" + path.parent_path().string() +
-                               "' for '" + config_.path + "': " + error.message());
+      throw std::runtime_error("DurableLog: cannot create folder '" + path.parent_path().string() + "' for '" +
+                               config_.path + "': " + error.message());
     }
   }
   event_ = std::make_unique<lcm::LogEvent>();
@@ -73,7 +73,8 @@ DurableLog::~DurableLog() { stop(); }
 
 void DurableLog::write_session_header(const sculpt_lcm::session_header_t& header) {
   if (thread_.joinable() || event_number_ != 0 || file_ == nullptr) {
-    throw std::logic_error("DurableLog: '" + config_.path + "': the session header must be its first event, "
+    throw std::logic_error("DurableLog: '" + config_.path +
+                           "': the session header must be its first event, "
                            "written before start()");
   }
   const int size = header.getEncodedSize();
@@ -88,8 +89,8 @@ void DurableLog::write_session_header(const sculpt_lcm::session_header_t& header
   event.datalen = size;
   event.data = buffer.data();
   if (file_->writeEvent(&event) != 0) {
-    throw std::runtime_error("DurableLog: '" + config_.path + "': cannot write the session header: " +
-                             std::strerror(errno));
+    throw std::runtime_error("DurableLog: '" + config_.path +
+                             "': cannot write the session header: " + std::strerror(errno));
   }
   ++event_number_;
   // On the disk before the first tick: a log cut at any later moment still names its session.
@@ -177,8 +178,8 @@ template <typename Message>
 void DurableLog::write_message(LogKind kind, std::int64_t utime, const Message& message) noexcept {
   std::array<unsigned char, kMaxEncodedSize> buffer;
   const int size = message.getEncodedSize();
-  const bool encoded = size > 0 && static_cast<std::size_t>(size) <= buffer.size() &&
-                       message.encode(buffer.data(), 0, size) == size;
+  const bool encoded =
+      size > 0 && static_cast<std::size_t>(size) <= buffer.size() && message.encode(buffer.data(), 0, size) == size;
   if (!encoded || file_ == nullptr) {
     write_errors_.fetch_add(1, std::memory_order_relaxed);
     return;
@@ -239,9 +240,7 @@ void DurableLog::write(const Entry& entry) noexcept {
       write_message(LogKind::kHaptic, haptic.utime, message);
       break;
     }
-    default:
-      write_errors_.fetch_add(1, std::memory_order_relaxed);
-      break;
+    default: write_errors_.fetch_add(1, std::memory_order_relaxed); break;
   }
 }
 

@@ -18,9 +18,7 @@ std::uint32_t load_u32(const std::uint8_t* p) noexcept {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
 }
 
-std::uint64_t load_u64(const std::uint8_t* p) noexcept {
-  return (std::uint64_t{load_u32(p)} << 32) | load_u32(p + 4);
-}
+std::uint64_t load_u64(const std::uint8_t* p) noexcept { return (std::uint64_t{load_u32(p)} << 32) | load_u32(p + 4); }
 
 std::string hex32(std::uint32_t value) {
   char text[16];
@@ -51,12 +49,10 @@ EventLogReader::~EventLogReader() {
 void EventLogReader::read_at(std::uint64_t offset, void* buffer, std::size_t size) {
   // Callers only ask for bytes inside size_, so a short read is an I/O error or a file that
   // shrank under us, not damage in the log.
-  if (::fseeko(file_, static_cast<off_t>(offset), SEEK_SET) != 0 ||
-      std::fread(buffer, 1, size, file_) != size) {
-    throw LogFileError(path_ + ": byte offset " + std::to_string(offset) + ": cannot read " +
-                       std::to_string(size) + " bytes" +
-                       (std::ferror(file_) != 0 ? std::string(": ") + std::strerror(errno)
-                                                : std::string(" (file shrank?)")));
+  if (::fseeko(file_, static_cast<off_t>(offset), SEEK_SET) != 0 || std::fread(buffer, 1, size, file_) != size) {
+    throw LogFileError(
+        path_ + ": byte offset " + std::to_string(offset) + ": cannot read " + std::to_string(size) + " bytes" +
+        (std::ferror(file_) != 0 ? std::string(": ") + std::strerror(errno) : std::string(" (file shrank?)")));
   }
 }
 

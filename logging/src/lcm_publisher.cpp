@@ -81,12 +81,11 @@ PublisherCounters LcmPublisher::counters() const noexcept {
 }
 
 template <typename Message>
-void LcmPublisher::send(const std::string& channel, const Message& message,
-                        AtomicChannelCounters& counters) noexcept {
+void LcmPublisher::send(const std::string& channel, const Message& message, AtomicChannelCounters& counters) noexcept {
   std::array<unsigned char, kMaxEncodedSize> buffer;
   const int size = message.getEncodedSize();
-  const bool encoded = size > 0 && static_cast<std::size_t>(size) <= buffer.size() &&
-                       message.encode(buffer.data(), 0, size) == size;
+  const bool encoded =
+      size > 0 && static_cast<std::size_t>(size) <= buffer.size() && message.encode(buffer.data(), 0, size) == size;
   // lcm_publish returns nonzero when the transport refused the message (e.g. no route).
   if (encoded && lcm_->publish(channel, buffer.data(), static_cast<unsigned>(size)) == 0) {
     counters.published.fetch_add(1, std::memory_order_relaxed);

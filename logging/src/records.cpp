@@ -92,14 +92,13 @@ bool from_lcm(const sculpt_lcm::collision_event_t& m, CollisionRecord& out) noex
   if (m.kernel != Event::KERNEL_KELVIN && m.kernel != Event::KERNEL_REGULARIZED) return false;
   if (m.form != Event::FORM_SCALE && m.form != Event::FORM_FORCE) return false;
   if (m.frame_size < 1 || m.contact_index < 0) return false;
-  if (!finite3(m.probe) || !finite3(m.contact) || !finite3(m.source) || !finite3(m.force) ||
-      !finite3(m.weights) || !finite3(m.effective_force) || !finite3(m.region_centre)) {
+  if (!finite3(m.probe) || !finite3(m.contact) || !finite3(m.source) || !finite3(m.force) || !finite3(m.weights) ||
+      !finite3(m.effective_force) || !finite3(m.region_centre)) {
     return false;
   }
   // Replay re-applies the kernel with these: a NaN material would spread NaN over the model.
   if (!std::isfinite(m.time_s) || !std::isfinite(m.bc_radius) || !std::isfinite(m.region_radius) ||
-      !std::isfinite(m.kernel_eps) || !std::isfinite(m.shear_modulus) ||
-      !std::isfinite(m.poisson_ratio)) {
+      !std::isfinite(m.kernel_eps) || !std::isfinite(m.shear_modulus) || !std::isfinite(m.poisson_ratio)) {
     return false;
   }
   out.utime = m.utime;

@@ -37,7 +37,8 @@ Bounds bounds_of(const deform::PointModel& model) {
 
 double farthest_distance(const deform::PointModel& model, const Vec3& centre) {
   double farthest = 0.0;
-  for (std::size_t i = 0; i < model.size(); ++i) farthest = std::max(farthest, squared_norm(model.position(i) - centre));
+  for (std::size_t i = 0; i < model.size(); ++i)
+    farthest = std::max(farthest, squared_norm(model.position(i) - centre));
   return std::sqrt(farthest);
 }
 
@@ -73,9 +74,9 @@ std::array<double, 16> Camera::view_matrix() const {
   Vec3 r, u, b;
   basis(r, u, b);
   // Rows are the eye frame's axes; the translation takes the eye to the origin.
-  return {r.x, u.x, b.x, 0.0,  //
-          r.y, u.y, b.y, 0.0,  //
-          r.z, u.z, b.z, 0.0,  //
+  return {r.x,          u.x,          b.x,          0.0,  //
+          r.y,          u.y,          b.y,          0.0,  //
+          r.z,          u.z,          b.z,          0.0,  //
           -dot(r, eye), -dot(u, eye), -dot(b, eye), 1.0};
 }
 
@@ -83,10 +84,22 @@ std::array<double, 16> Camera::projection_matrix() const {
   const double f = 1.0 / std::tan(radians(vertical_fov_deg) / 2.0);
   const double aspect = static_cast<double>(width) / height;
   const double n = near_distance, fa = far_distance;
-  return {f / aspect, 0.0, 0.0, 0.0,  //
-          0.0, f, 0.0, 0.0,           //
-          0.0, 0.0, (fa + n) / (n - fa), -1.0,
-          0.0, 0.0, 2.0 * fa * n / (n - fa), 0.0};
+  return {f / aspect,
+          0.0,
+          0.0,
+          0.0,  //
+          0.0,
+          f,
+          0.0,
+          0.0,  //
+          0.0,
+          0.0,
+          (fa + n) / (n - fa),
+          -1.0,
+          0.0,
+          0.0,
+          2.0 * fa * n / (n - fa),
+          0.0};
 }
 
 double Camera::focal_pixels() const { return 0.5 * height / std::tan(radians(vertical_fov_deg) / 2.0); }

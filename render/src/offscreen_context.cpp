@@ -16,9 +16,7 @@ OffscreenContext::OffscreenContext(int width, int height)
   }
 }
 
-OffscreenContext::~OffscreenContext() {
-  OSMesaDestroyContext(context_);
-}
+OffscreenContext::~OffscreenContext() { OSMesaDestroyContext(context_); }
 
 void OffscreenContext::make_current() {
   if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, width_, height_)) {

@@ -83,8 +83,8 @@ Image render_picture(const deform::PointModel& model, const deform::PointModel* 
   // Deformation moves points and keeps connectivity, but not every writer keeps the faces: an
   // after model without faces of its own is drawn with before's, so the two panels differ only
   // in what moved.
-  const bool borrow_faces = compare && model.triangles.empty() && !before->triangles.empty() &&
-                            before->size() == model.size();
+  const bool borrow_faces =
+      compare && model.triangles.empty() && !before->triangles.empty() && before->size() == model.size();
   deform::PointModel with_faces;
   if (borrow_faces) {
     with_faces = model;
@@ -104,8 +104,8 @@ Image render_picture(const deform::PointModel& model, const deform::PointModel* 
   const int w = request.view_width, h = request.view_height;
   const Framing framing = frame(model, before, request.overlay);
   const Vec3 up = axis_frame(request.up).up;
-  const Vec3 first = request.look ? *request.look
-                                  : look_direction(request.up, request.azimuth_deg, request.elevation_deg);
+  const Vec3 first =
+      request.look ? *request.look : look_direction(request.up, request.azimuth_deg, request.elevation_deg);
   const int label_scale = h >= 240 ? 2 : 1;
   const ColorBar bar{max_displacement, "displacement", request.unit, label_scale};
   const int bar_width = compare ? color_bar_width(bar) : 0;

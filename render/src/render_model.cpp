@@ -38,7 +38,8 @@ std::vector<SplatClass> make_splat_classes(const deform::PointModel& model) {
       if (d2 > 0.0 && ++distinct <= kLocalNeighbour) local = std::sqrt(d2);
     }
     const int c = local > 0.0 ? static_cast<int>(std::lround(kClassesPerOctave * std::log2(local / typical))) : 0;
-    classes[std::clamp(c, kSmallestClass, kLargestClass) - kSmallestClass].points.push_back(static_cast<std::uint32_t>(i));
+    classes[std::clamp(c, kSmallestClass, kLargestClass) - kSmallestClass].points.push_back(
+        static_cast<std::uint32_t>(i));
   }
   std::erase_if(classes, [](const SplatClass& s) { return s.points.empty(); });
   return classes;

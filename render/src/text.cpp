@@ -24,8 +24,8 @@ Quads layout(std::string_view text) {
   std::string copy(text);  // stb_easy_font takes a char*
   Quads q;
   q.vertices.resize(kVertexBytesPerChar * (copy.size() + 1));
-  q.count = stb_easy_font_print(0.0f, 0.0f, copy.data(), nullptr, q.vertices.data(),
-                                static_cast<int>(q.vertices.size()));
+  q.count =
+      stb_easy_font_print(0.0f, 0.0f, copy.data(), nullptr, q.vertices.data(), static_cast<int>(q.vertices.size()));
   return q;
 }
 

@@ -19,7 +19,7 @@ logging::CollisionRecord contact_record(const deform::ContactReport& c, const Fr
   r.tick = static_cast<std::int64_t>(frame.tick);
   r.time_s = frame.time_s;
   r.mode = settings.contact.mode == deform::ContactMode::kPull ? logging::CollisionMode::kPull
-                                                                : logging::CollisionMode::kPush;
+                                                               : logging::CollisionMode::kPush;
   r.probe = to_array(c.probe_after);
   r.contact_index = static_cast<std::int32_t>(c.nearest);
   r.contact = to_array(c.contact);
@@ -31,13 +31,12 @@ logging::CollisionRecord contact_record(const deform::ContactReport& c, const Fr
   r.region_kind = radius ? logging::RegionKind::kRadius : logging::RegionKind::kGlobal;
   r.region_centre = to_array(c.contact);
   r.region_radius = radius ? settings.region.radius : 0.0;
-  r.kernel = k.kind == deform::KernelKind::kRegularized ? logging::KernelKind::kRegularized
-                                                        : logging::KernelKind::kKelvin;
+  r.kernel =
+      k.kind == deform::KernelKind::kRegularized ? logging::KernelKind::kRegularized : logging::KernelKind::kKelvin;
   r.kernel_eps = k.regularization;
   r.shear_modulus = k.material.shear_modulus;
   r.poisson_ratio = k.material.poisson_ratio;
-  r.form = settings.solver.form == deform::WeightForm::kForce ? logging::ForceForm::kForce
-                                                              : logging::ForceForm::kScale;
+  r.form = settings.solver.form == deform::WeightForm::kForce ? logging::ForceForm::kForce : logging::ForceForm::kScale;
   r.residual = report.solve.relative_residual;  // the type and the docs say relative
   r.condition = report.solve.condition;
   r.frame_id = frame.frame_id;

@@ -8,8 +8,7 @@ namespace sculpt::rt {
 
 DeadBand::DeadBand(double delta_s) : delta_s_(delta_s), delta_s_squared_(delta_s * delta_s) {
   if (!std::isfinite(delta_s) || delta_s < 0.0) {
-    throw std::invalid_argument("dead band: delta_s must be finite and >= 0, got " +
-                                std::to_string(delta_s));
+    throw std::invalid_argument("dead band: delta_s must be finite and >= 0, got " + std::to_string(delta_s));
   }
 }
 

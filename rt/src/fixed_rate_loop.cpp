@@ -10,9 +10,8 @@ namespace sculpt::rt {
 
 FixedRateLoop::FixedRateLoop(double rate_hz) : rate_hz_(rate_hz), period_ns_(0) {
   if (!(rate_hz >= kMinRateHz && rate_hz <= kMaxRateHz)) {
-    throw std::invalid_argument("fixed-rate loop: the rate must be " + std::to_string(kMinRateHz) +
-                                " to " + std::to_string(kMaxRateHz) + " Hz, got " +
-                                std::to_string(rate_hz));
+    throw std::invalid_argument("fixed-rate loop: the rate must be " + std::to_string(kMinRateHz) + " to " +
+                                std::to_string(kMaxRateHz) + " Hz, got " + std::to_string(rate_hz));
   }
   period_ns_ = std::llround(1e9 / rate_hz);
 }

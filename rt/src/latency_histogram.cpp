@@ -55,8 +55,7 @@ std::int64_t LatencyHistogram::quantile(double q) const noexcept {
     seen += buckets_[i];
     if (seen >= rank) {
       // The overflow bucket has no middle: the exact max is the best estimate there.
-      const std::int64_t middle =
-          i + 1 == kBucketCount ? max_ : edges_[i] + (edges_[i + 1] - edges_[i]) / 2;
+      const std::int64_t middle = i + 1 == kBucketCount ? max_ : edges_[i] + (edges_[i + 1] - edges_[i]) / 2;
       return std::clamp(middle, min_, max_);
     }
   }

@@ -26,12 +26,10 @@ void OneEuroParams::validate() const {
                                 std::to_string(min_cutoff));
   }
   if (!positive_finite(d_cutoff)) {
-    throw std::invalid_argument("one-euro filter: d_cutoff must be finite and > 0 Hz, got " +
-                                std::to_string(d_cutoff));
+    throw std::invalid_argument("one-euro filter: d_cutoff must be finite and > 0 Hz, got " + std::to_string(d_cutoff));
   }
   if (!std::isfinite(beta) || beta < 0.0) {
-    throw std::invalid_argument("one-euro filter: beta must be finite and >= 0, got " +
-                                std::to_string(beta));
+    throw std::invalid_argument("one-euro filter: beta must be finite and >= 0, got " + std::to_string(beta));
   }
 }
 
@@ -39,9 +37,8 @@ OneEuroFilter::OneEuroFilter(const OneEuroParams& params, double nominal_rate_hz
     : params_(params), nominal_rate_hz_(nominal_rate_hz), rate_hz_(nominal_rate_hz) {
   params_.validate();
   if (!positive_finite(nominal_rate_hz)) {
-    throw std::invalid_argument(
-        "one-euro filter: the nominal rate must be finite and > 0 Hz, got " +
-        std::to_string(nominal_rate_hz));
+    throw std::invalid_argument("one-euro filter: the nominal rate must be finite and > 0 Hz, got " +
+                                std::to_string(nominal_rate_hz));
   }
 }
 
@@ -84,8 +81,7 @@ OneEuroFilter3::OneEuroFilter3(const OneEuroParams& params, double nominal_rate_
     : axes_{OneEuroFilter(params, nominal_rate_hz), OneEuroFilter(params, nominal_rate_hz),
             OneEuroFilter(params, nominal_rate_hz)} {}
 
-std::array<double, 3> OneEuroFilter3::filter(const std::array<double, 3>& point,
-                                             double timestamp_s) noexcept {
+std::array<double, 3> OneEuroFilter3::filter(const std::array<double, 3>& point, double timestamp_s) noexcept {
   if (!std::isfinite(point[0]) || !std::isfinite(point[1]) || !std::isfinite(point[2])) {
     return last_output();
   }

@@ -14,8 +14,7 @@ namespace {
 
 std::string reason(int error) {
   std::string text = std::strerror(error);
-  if (error == EPERM)
-    text += " (needs root, CAP_SYS_NICE / CAP_IPC_LOCK, or an rtprio/memlock limit)";
+  if (error == EPERM) text += " (needs root, CAP_SYS_NICE / CAP_IPC_LOCK, or an rtprio/memlock limit)";
   return text;
 }
 
@@ -25,13 +24,11 @@ std::vector<std::string> apply_realtime(const RealtimeOptions& options) {
   const int lowest = sched_get_priority_min(SCHED_FIFO);
   const int highest = sched_get_priority_max(SCHED_FIFO);
   if (options.fifo && (options.priority < lowest || options.priority > highest)) {
-    throw std::invalid_argument("realtime: SCHED_FIFO priority must be " + std::to_string(lowest) +
-                                " to " + std::to_string(highest) + ", got " +
-                                std::to_string(options.priority));
+    throw std::invalid_argument("realtime: SCHED_FIFO priority must be " + std::to_string(lowest) + " to " +
+                                std::to_string(highest) + ", got " + std::to_string(options.priority));
   }
   if (options.cpu < -1 || options.cpu >= CPU_SETSIZE) {
-    throw std::invalid_argument("realtime: cpu must be -1 (any) or 0 to " +
-                                std::to_string(CPU_SETSIZE - 1) + ", got " +
+    throw std::invalid_argument("realtime: cpu must be -1 (any) or 0 to " + std::to_string(CPU_SETSIZE - 1) + ", got " +
                                 std::to_string(options.cpu));
   }
 
@@ -48,8 +45,7 @@ std::vector<std::string> apply_realtime(const RealtimeOptions& options) {
   if (options.lock_memory) {
     if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
       const int error = errno;
-      warnings.push_back("realtime: mlockall refused: " + reason(error) +
-                         "; pages may fault in the loop");
+      warnings.push_back("realtime: mlockall refused: " + reason(error) + "; pages may fault in the loop");
     }
   }
   if (options.cpu >= 0) {
@@ -57,16 +53,15 @@ std::vector<std::string> apply_realtime(const RealtimeOptions& options) {
     CPU_ZERO(&set);
     CPU_SET(options.cpu, &set);
     if (const int error = pthread_setaffinity_np(pthread_self(), sizeof(set), &set); error != 0) {
-      warnings.push_back("realtime: pinning to CPU " + std::to_string(options.cpu) +
-                         " refused: " + reason(error) + "; the thread may migrate");
+      warnings.push_back("realtime: pinning to CPU " + std::to_string(options.cpu) + " refused: " + reason(error) +
+                         "; the thread may migrate");
     }
   }
   if (options.tight_timer_slack) {
     // 1, not 0: a slack of 0 means "back to the default".
     if (prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL) != 0) {
       const int error = errno;
-      warnings.push_back("realtime: timer slack 1 ns refused: " + reason(error) +
-                         "; wake-ups may be up to 50 us late");
+      warnings.push_back("realtime: timer slack 1 ns refused: " + reason(error) + "; wake-ups may be up to 50 us late");
     }
   }
   return warnings;

@@ -38,9 +38,8 @@ Box bounds(const deform::PointModel& m) {
 
 /// One voxel-grid pass at voxel size h: per voxel, the point nearest its centre (ties to the
 /// smaller index). `order` is scratch; the kept indices come back ascending.
-void voxel_subsample(const deform::PointModel& m, const Box& box, double h,
-                     std::vector<std::uint64_t>& keys, std::vector<double>& d2,
-                     std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& kept) {
+void voxel_subsample(const deform::PointModel& m, const Box& box, double h, std::vector<std::uint64_t>& keys,
+                     std::vector<double>& d2, std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& kept) {
   const std::size_t n = m.size();
   keys.resize(n);
   d2.resize(n);
@@ -76,8 +75,7 @@ void voxel_subsample(const deform::PointModel& m, const Box& box, double h,
 
 std::vector<std::uint32_t> reduced_indices(const deform::PointModel& full, double ratio) {
   if (!(ratio > 0.0 && ratio <= 1.0)) {
-    throw std::invalid_argument("reduced model: ratio " + std::to_string(ratio) +
-                                " must be in (0, 1]");
+    throw std::invalid_argument("reduced model: ratio " + std::to_string(ratio) + " must be in (0, 1]");
   }
   const std::size_t n = full.size();
   std::vector<std::uint32_t> kept;

@@ -32,8 +32,7 @@ std::string lower_extension(const std::string& path) {
 }
 
 /// A path key: non-empty, resolved against the scene's directory when relative.
-std::optional<std::string> path_value(const Section& s, std::string_view key,
-                                      const std::string& base_dir) {
+std::optional<std::string> path_value(const Section& s, std::string_view key, const std::string& base_dir) {
   auto text = s.string(key);
   if (!text) return text;
   s.check(!text->empty(), key, "must not be empty");
@@ -56,8 +55,7 @@ void read_model(const Section& root, const std::string& base_dir, Scene& scene) 
                                                            {"pca", NormalsSource::kPca},
                                                            {"none", NormalsSource::kNone}});
   // A reference point replaces normals (the thesis's test); naming both would leave one unused.
-  scene.model.normals = normals.value_or(scene.model.reference ? NormalsSource::kNone
-                                                               : NormalsSource::kAuto);
+  scene.model.normals = normals.value_or(scene.model.reference ? NormalsSource::kNone : NormalsSource::kAuto);
   if (scene.model.reference && scene.model.normals != NormalsSource::kNone) {
     s.fail("reference", "only used with model.normals = 'none' (a reference point replaces normals)");
   }
@@ -79,8 +77,7 @@ void read_material_and_kernel(const Section& root, Scene& scene) {
     m.check(*g <= deform::kMaxShearModulus, "G", "out of range: " + show(*g) + " is above 1e15");
     scene.material.shear_modulus = *g;
   }
-  scene.material.poisson_ratio =
-      m.number_in("nu", -1.0, true, 0.5, false).value_or(scene.material.poisson_ratio);
+  scene.material.poisson_ratio = m.number_in("nu", -1.0, true, 0.5, false).value_or(scene.material.poisson_ratio);
 
   const Section k = root.table("kernel", {"kind", "eps"});
   scene.kernel.kind = k.choice<deform::KernelKind>("kind", {{"kelvin", deform::KernelKind::kKelvin},
@@ -115,8 +112,7 @@ void read_heuristic(const Section& root, Scene& scene) {
       h.region = RegionChoice::kRadius;
       h.region_radius = *s.positive("region");
     } else {
-      s.fail("region", "expected 'global', 'auto' or a radius (number), got " +
-                           std::string(type_name(*region)));
+      s.fail("region", "expected 'global', 'auto' or a radius (number), got " + std::string(type_name(*region)));
     }
   }
   h.budget_fraction = s.number_in("budget_fraction", 0.0, true, 1.0, false).value_or(h.budget_fraction);
@@ -124,14 +120,14 @@ void read_heuristic(const Section& root, Scene& scene) {
 }
 
 void read_deform(const Section& root, Scene& scene) {
-  const Section s = root.table("deform", {"form", "mode", "bc_radius", "delta_s", "delta_d", "delta_r",
-                                          "precision", "carry_normals", "border_weight", "max_patch_points"});
+  const Section s = root.table("deform", {"form", "mode", "bc_radius", "delta_s", "delta_d", "delta_r", "precision",
+                                          "carry_normals", "border_weight", "max_patch_points"});
   auto& d = scene.deform;
-  d.form = s.choice<deform::WeightForm>("form", {{"scale", deform::WeightForm::kScale},
-                                                 {"force", deform::WeightForm::kForce}})
+  d.form = s.choice<deform::WeightForm>("form",
+                                        {{"scale", deform::WeightForm::kScale}, {"force", deform::WeightForm::kForce}})
                .value_or(d.form);
-  d.mode = s.choice<deform::ContactMode>("mode", {{"push", deform::ContactMode::kPush},
-                                                  {"pull", deform::ContactMode::kPull}})
+  d.mode = s.choice<deform::ContactMode>("mode",
+                                         {{"push", deform::ContactMode::kPush}, {"pull", deform::ContactMode::kPull}})
                .value_or(d.mode);
   d.bc_radius = s.positive("bc_radius");
   d.delta_s = s.non_negative("delta_s");
@@ -140,8 +136,8 @@ void read_deform(const Section& root, Scene& scene) {
   if (const auto cap = s.integer_in("max_patch_points", 1, static_cast<std::int64_t>(deform::kMaxPatchPointsLimit))) {
     d.max_patch_points = static_cast<std::size_t>(*cap);
   }
-  d.precision = s.choice<deform::Precision>("precision", {{"float", deform::Precision::kFloat},
-                                                          {"double", deform::Precision::kDouble}})
+  d.precision = s.choice<deform::Precision>(
+                     "precision", {{"float", deform::Precision::kFloat}, {"double", deform::Precision::kDouble}})
                     .value_or(d.precision);
   if (const auto carry = s.boolean("carry_normals")) {
     if (scene.model.normals == NormalsSource::kNone && *carry) {
@@ -158,8 +154,7 @@ void read_deform(const Section& root, Scene& scene) {
 }
 
 std::uint8_t finger_number(const Context& context, const toml::node& node, const std::string& key) {
-  static constexpr std::array<std::string_view, hal::kFingers> kNames = {"thumb", "index", "middle",
-                                                                          "ring", "little"};
+  static constexpr std::array<std::string_view, hal::kFingers> kNames = {"thumb", "index", "middle", "ring", "little"};
   if (const auto* name = node.as_string()) {
     for (std::size_t f = 0; f < kNames.size(); ++f) {
       if (name->get() == kNames[f]) return static_cast<std::uint8_t>(f);
@@ -186,8 +181,7 @@ std::uint8_t hand_number(const Context& context, const toml::node& node, const s
                        "expected a hand, 0 or 1, got " + std::string(type_name(node)));
   }
   if (number->get() < 0 || number->get() >= static_cast<std::int64_t>(hal::kHands)) {
-    scene_detail::fail(context, node.source().begin, key,
-                       "hand " + std::to_string(number->get()) + " is not 0 or 1");
+    scene_detail::fail(context, node.source().begin, key, "hand " + std::to_string(number->get()) + " is not 0 or 1");
   }
   return static_cast<std::uint8_t>(number->get());
 }
@@ -224,18 +218,17 @@ void read_script(const Section& s, hal::FingerScript& script) {
     const std::string key = s.key("keyframes") + "[" + std::to_string(i) + "]";
     const toml::array* values = frame.as_array();
     if (values == nullptr || values->size() != 4) {
-      scene_detail::fail(s.context(), frame.source().begin, key,
-                         "expected [t, x, y, z], got " +
-                             (values == nullptr ? std::string(type_name(frame))
-                                                : std::to_string(values->size()) + " elements"));
+      scene_detail::fail(
+          s.context(), frame.source().begin, key,
+          "expected [t, x, y, z], got " +
+              (values == nullptr ? std::string(type_name(frame)) : std::to_string(values->size()) + " elements"));
     }
     double v[4];
     for (std::size_t j = 0; j < 4; ++j) {
       v[j] = as_number(s.context(), *values->get(j), key + "[" + std::to_string(j) + "]");
     }
     if (v[0] < 0.0) {
-      scene_detail::fail(s.context(), frame.source().begin, key,
-                         "time " + show(v[0]) + " s is negative");
+      scene_detail::fail(s.context(), frame.source().begin, key, "time " + show(v[0]) + " s is negative");
     }
     // The simulator interpolates between neighbours; equal or falling times have no meaning.
     if (!script.keyframes.empty() && !(v[0] > script.keyframes.back().time_s)) {
@@ -274,8 +267,8 @@ void read_sim(const Section& s, hal::SimConfig& sim) {
     for (const auto& other : sim.fingers) {
       if (other.hand == script.hand && other.finger == script.finger) {
         scene_detail::fail(s.context(), node.source().begin, key,
-                           "hand " + std::to_string(script.hand) + " finger " +
-                               std::to_string(script.finger) + " already has a script");
+                           "hand " + std::to_string(script.hand) + " finger " + std::to_string(script.finger) +
+                               " already has a script");
       }
     }
     sim.fingers.push_back(std::move(script));
@@ -290,8 +283,7 @@ void read_serial(const Section& s, hal::SerialConfig& serial) {
   serial.reconnect_interval_ms = s.positive("reconnect_ms").value_or(serial.reconnect_interval_ms);
 }
 
-void read_lcm_transport(const Section& s, const std::string& default_url, std::string& url,
-                        std::string& channel) {
+void read_lcm_transport(const Section& s, const std::string& default_url, std::string& url, std::string& channel) {
   url = s.string("url").value_or(default_url);
   s.check(url.find("://") != std::string::npos, "url",
           "'" + url + "' is not an LCM URL (provider://address, e.g. udpm://239.255.76.67:7667)");
@@ -340,22 +332,21 @@ void check_backend_sections(const Section& s, std::string_view selector, std::st
     if (name == chosen) {
       if (!s.has(name)) {
         // The simulator's section comes into being with its first script.
-        const std::string add_hint = name == "sim" ? "[[" + s.key(name) + ".script]]"
-                                                   : "[" + s.key(name) + "]";
-        scene_detail::fail(s.context(), s.where(selector), s.key(name),
-                           s.key(selector) + " is '" + std::string(chosen) +
-                               "' but this section is missing; add " + add_hint);
+        const std::string add_hint = name == "sim" ? "[[" + s.key(name) + ".script]]" : "[" + s.key(name) + "]";
+        scene_detail::fail(
+            s.context(), s.where(selector), s.key(name),
+            s.key(selector) + " is '" + std::string(chosen) + "' but this section is missing; add " + add_hint);
       }
     } else if (s.has(name)) {
-      s.fail(name, std::string(selector) + " is '" + std::string(chosen) +
-                       "'; remove this section or change " + s.key(selector));
+      s.fail(name, std::string(selector) + " is '" + std::string(chosen) + "'; remove this section or change " +
+                       s.key(selector));
     }
   }
 }
 
 void read_glove(const Section& root, Scene& scene) {
-  const Section s = root.table("glove", {"backend", "timeout_ms", "queue_capacity", "hands", "fingers",
-                                         "sim", "serial", "usb", "lcm", "socketcan"});
+  const Section s = root.table("glove", {"backend", "timeout_ms", "queue_capacity", "hands", "fingers", "sim", "serial",
+                                         "usb", "lcm", "socketcan"});
   auto& glove = scene.glove;
   auto& config = glove.config;
   s.require("backend");
@@ -371,25 +362,20 @@ void read_glove(const Section& root, Scene& scene) {
 
   switch (config.backend) {
     case hal::Backend::kSim:
-      read_sim(s.table("sim", {"rate_hz", "seed", "jitter", "dropout", "latency_ms", "repeat",
-                               "duration_s", "script"}),
+      read_sim(s.table("sim", {"rate_hz", "seed", "jitter", "dropout", "latency_ms", "repeat", "duration_s", "script"}),
                config.sim);
       break;
     case hal::Backend::kSerial:
       read_serial(s.table("serial", {"device", "baud", "reconnect_ms"}), config.serial);
       break;
     case hal::Backend::kUsb:
-      read_usb(s.table("usb", {"vendor_id", "product_id", "interface", "endpoint", "out_endpoint",
-                               "transfer"}),
+      read_usb(s.table("usb", {"vendor_id", "product_id", "interface", "endpoint", "out_endpoint", "transfer"}),
                config.usb);
       break;
     case hal::Backend::kLcm:
-      read_lcm_transport(s.table("lcm", {"url", "channel"}), scene.lcm.url, config.lcm.url,
-                         config.lcm.glove_channel);
+      read_lcm_transport(s.table("lcm", {"url", "channel"}), scene.lcm.url, config.lcm.url, config.lcm.glove_channel);
       break;
-    case hal::Backend::kSocketCan:
-      read_can(s.table("socketcan", {"interface", "fd", "base_id"}), config.can);
-      break;
+    case hal::Backend::kSocketCan: read_can(s.table("socketcan", {"interface", "fd", "base_id"}), config.can); break;
   }
 
   // Unlisted, the acting hands and fingers are the scripted ones for the simulator (the others
@@ -418,8 +404,8 @@ void read_glove(const Section& root, Scene& scene) {
 
 void read_hand(const Section& root, Scene& scene) {
   const Section s = root.table("hand", {"kind", "bone_lengths"});
-  scene.hand.kind = s.choice<hal::SampleKind>("kind", {{"positions", hal::SampleKind::kPositions},
-                                                       {"angles", hal::SampleKind::kAngles}})
+  scene.hand.kind = s.choice<hal::SampleKind>(
+                         "kind", {{"positions", hal::SampleKind::kPositions}, {"angles", hal::SampleKind::kAngles}})
                         .value_or(hal::SampleKind::kPositions);
   if (scene.hand.kind == hal::SampleKind::kAngles && scene.glove.config.backend == hal::Backend::kSim) {
     s.fail("kind", "the sim glove sends fingertip positions; use 'positions' or another glove.backend");
@@ -498,8 +484,7 @@ void read_registration(const Section& root, Scene& scene) {
     }
     norm = std::sqrt(norm);
     // Loose enough for hand-typed 0.7071, tight enough to catch a swapped or missing component.
-    s.check(std::abs(norm - 1.0) < 1e-3, "rotation",
-            "not a unit quaternion (norm " + show(norm) + ")");
+    s.check(std::abs(norm - 1.0) < 1e-3, "rotation", "not a unit quaternion (norm " + show(norm) + ")");
     for (double& c : r.rotation) c /= norm;
   }
   if (const toml::array* a = s.array("axis_angle")) {
@@ -524,17 +509,16 @@ void read_registration(const Section& root, Scene& scene) {
       s.fail(explicit_key, "not used with registration.landmarks (the transform is fitted to them)");
     }
   }
-  s.check(landmarks->size() >= 3, "landmarks",
-          "needs at least 3 landmarks, got " + std::to_string(landmarks->size()));
+  s.check(landmarks->size() >= 3, "landmarks", "needs at least 3 landmarks, got " + std::to_string(landmarks->size()));
   std::vector<deform::Vec3> glove_points, model_points;
   for (std::size_t i = 0; i < landmarks->size(); ++i) {
     const toml::node& node = *landmarks->get(i);
     const std::string key = s.key("landmarks") + "[" + std::to_string(i) + "]";
     const toml::table* table = node.as_table();
     if (table == nullptr) {
-      scene_detail::fail(s.context(), node.source().begin, key,
-                         "expected a table {glove = [x, y, z], model = [x, y, z]}, got " +
-                             std::string(type_name(node)));
+      scene_detail::fail(
+          s.context(), node.source().begin, key,
+          "expected a table {glove = [x, y, z], model = [x, y, z]}, got " + std::string(type_name(node)));
     }
     const Section l(s.context(), table, key, node.source().begin);
     l.allow({"glove", "model"});
@@ -549,8 +533,8 @@ void read_registration(const Section& root, Scene& scene) {
 }
 
 void read_haptic(const Section& root, Scene& scene) {
-  const Section s = root.table("haptic", {"sink", "queue_capacity", "lcm", "serial", "can", "gain", "max_force",
-                                          "max_force_rate"});
+  const Section s =
+      root.table("haptic", {"sink", "queue_capacity", "lcm", "serial", "can", "gain", "max_force", "max_force_rate"});
   auto& haptic = scene.haptic;
   HapticLimits& limits = scene.haptic_limits;
   limits.gain = s.non_negative("gain").value_or(limits.gain);
@@ -578,17 +562,13 @@ void read_haptic(const Section& root, Scene& scene) {
   if (const auto q = s.integer_in("queue_capacity", 2, 1 << 20)) haptic.queue_capacity = static_cast<std::size_t>(*q);
   switch (haptic.sink) {
     case hal::SinkKind::kLcm:
-      read_lcm_transport(s.table("lcm", {"url", "channel"}), scene.lcm.url, haptic.lcm.url,
-                         haptic.lcm.haptic_channel);
+      read_lcm_transport(s.table("lcm", {"url", "channel"}), scene.lcm.url, haptic.lcm.url, haptic.lcm.haptic_channel);
       break;
     case hal::SinkKind::kSerial:
       read_serial(s.table("serial", {"device", "baud", "reconnect_ms"}), haptic.serial);
       break;
-    case hal::SinkKind::kCan:
-      read_can(s.table("can", {"interface", "fd", "base_id"}), haptic.can);
-      break;
-    case hal::SinkKind::kNone:
-      break;
+    case hal::SinkKind::kCan: read_can(s.table("can", {"interface", "fd", "base_id"}), haptic.can); break;
+    case hal::SinkKind::kNone: break;
   }
 }
 
@@ -599,8 +579,9 @@ void read_loop(const Section& root, Scene& scene) {
   if (const toml::node* n = s.node("realtime"); n != nullptr && n->is_boolean()) {
     loop.realtime = *s.boolean("realtime") ? RealtimeMode::kTry : RealtimeMode::kOff;
   } else if (n != nullptr) {
-    loop.realtime = s.choice<RealtimeMode>("realtime", {{"try", RealtimeMode::kTry}, {"require", RealtimeMode::kRequire}})
-                        .value_or(loop.realtime);
+    loop.realtime =
+        s.choice<RealtimeMode>("realtime", {{"try", RealtimeMode::kTry}, {"require", RealtimeMode::kRequire}})
+            .value_or(loop.realtime);
   }
   loop.lock_memory = s.boolean("lock_memory").value_or(loop.lock_memory);
   if (const auto cpu = s.integer_in("cpu", -1, 4095)) loop.cpu = static_cast<int>(*cpu);
@@ -622,8 +603,7 @@ void read_output(const Section& root, const std::string& base_dir, Scene& scene)
   out.model = path_value(s, "model", base_dir);
   if (out.model) {
     const std::string ext = lower_extension(*out.model);
-    s.check(ext == ".ply" || ext == ".xyz", "model",
-            "unsupported output format '" + ext + "'; expected .ply or .xyz");
+    s.check(ext == ".ply" || ext == ".xyz", "model", "unsupported output format '" + ext + "'; expected .ply or .xyz");
     s.check(*out.model != scene.model.path, "model",
             "would overwrite the input model (model.path); the base model must survive to replay the log");
   }
@@ -668,8 +648,8 @@ Scene parse_scene(std::string_view text, const std::string& path_for_errors, con
   scene.text = std::string(text);
   scene.base_dir = base_dir;
   const Section root(context, &document, "", toml::source_position{1, 1});
-  root.allow({"model", "material", "kernel", "deform", "heuristic", "glove", "hand", "filter",
-              "registration", "haptic", "loop", "lcm", "output"});
+  root.allow({"model", "material", "kernel", "deform", "heuristic", "glove", "hand", "filter", "registration", "haptic",
+              "loop", "lcm", "output"});
   // Order matters only where one section's meaning depends on another's: the model's normals
   // (deform, haptic), the region (deform), the LCM URL (glove and haptic defaults).
   read_model(root, base_dir, scene);

@@ -61,8 +61,7 @@ double as_number(const Context& context, const toml::node& node, const std::stri
   } else if (const auto* f = node.as_floating_point()) {
     value = f->get();
   } else {
-    fail(context, node.source().begin, key,
-         "expected a number, got " + std::string(type_name(node)));
+    fail(context, node.source().begin, key, "expected a number, got " + std::string(type_name(node)));
   }
   // TOML spells nan and inf; no setting of a scene means either.
   if (!std::isfinite(value)) fail(context, node.source().begin, key, "must be finite, got " + show(value));
@@ -72,23 +71,19 @@ double as_number(const Context& context, const toml::node& node, const std::stri
 deform::Vec3 as_vec3(const Context& context, const toml::node& node, const std::string& key) {
   const auto* array = node.as_array();
   if (array == nullptr) {
-    fail(context, node.source().begin, key,
-         "expected [x, y, z], got " + std::string(type_name(node)));
+    fail(context, node.source().begin, key, "expected [x, y, z], got " + std::string(type_name(node)));
   }
   if (array->size() != 3) {
-    fail(context, node.source().begin, key,
-         "expected [x, y, z], got " + std::to_string(array->size()) + " elements");
+    fail(context, node.source().begin, key, "expected [x, y, z], got " + std::to_string(array->size()) + " elements");
   }
   deform::Vec3 v;
   for (int i = 0; i < 3; ++i) {
-    v[i] = as_number(context, *array->get(static_cast<std::size_t>(i)),
-                     key + "[" + std::to_string(i) + "]");
+    v[i] = as_number(context, *array->get(static_cast<std::size_t>(i)), key + "[" + std::to_string(i) + "]");
   }
   return v;
 }
 
-Section::Section(const Context& context, const toml::table* table, std::string path,
-                 toml::source_position where)
+Section::Section(const Context& context, const toml::table* table, std::string path, toml::source_position where)
     : context_(&context), table_(table), path_(std::move(path)), where_(where) {
   if (table_ != nullptr && table_->source().begin.line > 0) where_ = table_->source().begin;
 }
@@ -104,9 +99,7 @@ void Section::allow(std::initializer_list<std::string_view> keys) const {
   }
 }
 
-const toml::node* Section::node(std::string_view key) const {
-  return table_ == nullptr ? nullptr : table_->get(key);
-}
+const toml::node* Section::node(std::string_view key) const { return table_ == nullptr ? nullptr : table_->get(key); }
 
 toml::source_position Section::where(std::string_view key) const {
   if (table_ != nullptr) {
@@ -159,8 +152,7 @@ std::optional<double> Section::number(std::string_view key) const {
   const toml::node* n = node(key);
   if (n == nullptr) return std::nullopt;
   if (!n->is_number()) fail(key, "expected a number, got " + std::string(type_name(*n)));
-  const double value = n->is_integer() ? static_cast<double>(n->as_integer()->get())
-                                       : n->as_floating_point()->get();
+  const double value = n->is_integer() ? static_cast<double>(n->as_integer()->get()) : n->as_floating_point()->get();
   if (!std::isfinite(value)) fail(key, "must be finite, got " + show(value));
   return value;
 }
@@ -202,15 +194,14 @@ const toml::array* Section::array(std::string_view key) const {
   return n->as_array();
 }
 
-std::optional<double> Section::number_in(std::string_view key, double lo, bool lo_open,
-                                         double hi, bool hi_open) const {
+std::optional<double> Section::number_in(std::string_view key, double lo, bool lo_open, double hi, bool hi_open) const {
   const auto value = number(key);
   if (!value) return value;
   const bool above = lo_open ? *value > lo : *value >= lo;
   const bool below = hi_open ? *value < hi : *value <= hi;
   if (!above || !below) {
-    fail(key, "out of range: " + show(*value) + " is not in " + (lo_open ? "(" : "[") +
-                  show(lo) + ", " + show(hi) + (hi_open ? ")" : "]"));
+    fail(key, "out of range: " + show(*value) + " is not in " + (lo_open ? "(" : "[") + show(lo) + ", " + show(hi) +
+                  (hi_open ? ")" : "]"));
   }
   return value;
 }
@@ -227,12 +218,11 @@ std::optional<double> Section::positive(std::string_view key) const {
   return value;
 }
 
-std::optional<std::int64_t> Section::integer_in(std::string_view key, std::int64_t lo,
-                                                std::int64_t hi) const {
+std::optional<std::int64_t> Section::integer_in(std::string_view key, std::int64_t lo, std::int64_t hi) const {
   const auto value = integer(key);
   if (value && (*value < lo || *value > hi)) {
-    fail(key, "out of range: " + std::to_string(*value) + " is not in [" + std::to_string(lo) +
-                  ", " + std::to_string(hi) + "]");
+    fail(key, "out of range: " + std::to_string(*value) + " is not in [" + std::to_string(lo) + ", " +
+                  std::to_string(hi) + "]");
   }
   return value;
 }

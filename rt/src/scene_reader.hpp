@@ -23,8 +23,8 @@ struct Context {
   std::string file;
 };
 
-[[noreturn]] void fail(const Context& context, const toml::source_position& where,
-                       const std::string& key, const std::string& problem);
+[[noreturn]] void fail(const Context& context, const toml::source_position& where, const std::string& key,
+                       const std::string& problem);
 
 /// Shortest text that reads back as the same double ("0.5", "3e+07").
 std::string show(double value);
@@ -43,8 +43,7 @@ deform::Vec3 as_vec3(const Context& context, const toml::node& node, const std::
 /// point at where the table would have been declared).
 class Section {
  public:
-  Section(const Context& context, const toml::table* table, std::string path,
-          toml::source_position where);
+  Section(const Context& context, const toml::table* table, std::string path, toml::source_position where);
 
   /// Fails on the first key (in file order) that is not in `keys`, naming it in full.
   void allow(std::initializer_list<std::string_view> keys) const;
@@ -81,19 +80,16 @@ class Section {
   const toml::array* array(std::string_view key) const;
 
   /// A number within [lo, hi] (either end open when the flag says so).
-  std::optional<double> number_in(std::string_view key, double lo, bool lo_open, double hi,
-                                  bool hi_open) const;
+  std::optional<double> number_in(std::string_view key, double lo, bool lo_open, double hi, bool hi_open) const;
   /// A non-negative number (zero allowed) or a positive one.
   std::optional<double> non_negative(std::string_view key) const;
   std::optional<double> positive(std::string_view key) const;
   /// An integer within [lo, hi].
-  std::optional<std::int64_t> integer_in(std::string_view key, std::int64_t lo,
-                                         std::int64_t hi) const;
+  std::optional<std::int64_t> integer_in(std::string_view key, std::int64_t lo, std::int64_t hi) const;
 
   /// One of the named values.
   template <typename E>
-  std::optional<E> choice(std::string_view key,
-                          std::initializer_list<std::pair<std::string_view, E>> values) const {
+  std::optional<E> choice(std::string_view key, std::initializer_list<std::pair<std::string_view, E>> values) const {
     const auto text = string(key);
     if (!text) return std::nullopt;
     for (const auto& [name, value] : values) {

@@ -49,14 +49,12 @@ Matrix3 transpose(const Matrix3& a) noexcept {
 }
 
 Vec3 multiply(const Matrix3& a, const Vec3& v) noexcept {
-  return {a[0][0] * v[0] + a[0][1] * v[1] + a[0][2] * v[2],
-          a[1][0] * v[0] + a[1][1] * v[1] + a[1][2] * v[2],
+  return {a[0][0] * v[0] + a[0][1] * v[1] + a[0][2] * v[2], a[1][0] * v[0] + a[1][1] * v[1] + a[1][2] * v[2],
           a[2][0] * v[0] + a[2][1] * v[1] + a[2][2] * v[2]};
 }
 
 double determinant(const Matrix3& a) noexcept {
-  return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-         a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+  return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
          a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
 }
 
@@ -98,8 +96,7 @@ void check_spread(std::span<const Vec3> points, const Eigen::Vector3d& mean, con
 
 }  // namespace
 
-SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double scale,
-                                                                         const Quaternion& q,
+SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double scale, const Quaternion& q,
                                                                          const Vec3& translation) {
   check_scale_translation(scale, translation);
   if (!std::isfinite(q.w) || !std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {
@@ -108,36 +105,29 @@ SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double 
   const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
   if (!(std::abs(norm - 1.0) <= kUnitTolerance)) {
     std::ostringstream s;
-    s << "similarity transform: the quaternion (w,x,y,z) = (" << q.w << ", " << q.x << ", " << q.y
-      << ", " << q.z << ") has norm " << norm << ", not 1 within " << kUnitTolerance;
+    s << "similarity transform: the quaternion (w,x,y,z) = (" << q.w << ", " << q.x << ", " << q.y << ", " << q.z
+      << ") has norm " << norm << ", not 1 within " << kUnitTolerance;
     fail(s.str());
   }
-  return {scale, matrix_of_unit_quaternion(q.w / norm, q.x / norm, q.y / norm, q.z / norm),
-          translation};
+  return {scale, matrix_of_unit_quaternion(q.w / norm, q.x / norm, q.y / norm, q.z / norm), translation};
 }
 
-SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double scale,
-                                                                         const AxisAngle& r,
+SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double scale, const AxisAngle& r,
                                                                          const Vec3& translation) {
   check_scale_translation(scale, translation);
-  if (!std::isfinite(r.angle) || !std::isfinite(r.axis[0]) || !std::isfinite(r.axis[1]) ||
-      !std::isfinite(r.axis[2])) {
+  if (!std::isfinite(r.angle) || !std::isfinite(r.axis[0]) || !std::isfinite(r.axis[1]) || !std::isfinite(r.axis[2])) {
     fail("similarity transform: the axis-angle rotation is not finite");
   }
-  const double length =
-      std::sqrt(r.axis[0] * r.axis[0] + r.axis[1] * r.axis[1] + r.axis[2] * r.axis[2]);
+  const double length = std::sqrt(r.axis[0] * r.axis[0] + r.axis[1] * r.axis[1] + r.axis[2] * r.axis[2]);
   if (r.angle == 0.0) return {scale, SimilarityTransform().rotation_, translation};
   if (!(length > 0.0)) fail("similarity transform: the rotation axis is zero but the angle is not");
   // Through the quaternion, which is exactly orthonormal up to rounding for any angle.
   const double half = 0.5 * r.angle;
   const double s = std::sin(half) / length;
-  return {scale,
-          matrix_of_unit_quaternion(std::cos(half), r.axis[0] * s, r.axis[1] * s, r.axis[2] * s),
-          translation};
+  return {scale, matrix_of_unit_quaternion(std::cos(half), r.axis[0] * s, r.axis[1] * s, r.axis[2] * s), translation};
 }
 
-SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double scale,
-                                                                         const Matrix3& r,
+SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double scale, const Matrix3& r,
                                                                          const Vec3& translation) {
   check_scale_translation(scale, translation);
   for (const auto& row : r) {
@@ -152,8 +142,7 @@ SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double 
   }
   if (!(off <= kOrthonormalTolerance)) {
     std::ostringstream s;
-    s << "similarity transform: the rotation matrix is not orthonormal (|R^T R - I| = " << off
-      << ")";
+    s << "similarity transform: the rotation matrix is not orthonormal (|R^T R - I| = " << off << ")";
     fail(s.str());
   }
   if (!(std::abs(determinant(r) - 1.0) <= kOrthonormalTolerance)) {
@@ -166,8 +155,7 @@ SimilarityTransform SimilarityTransform::from_scale_rotation_translation(double 
 
 Vec3 SimilarityTransform::apply(const Vec3& point) const noexcept {
   const Vec3 r = multiply(rotation_, point);
-  return {scale_ * r[0] + translation_[0], scale_ * r[1] + translation_[1],
-          scale_ * r[2] + translation_[2]};
+  return {scale_ * r[0] + translation_[0], scale_ * r[1] + translation_[1], scale_ * r[2] + translation_[2]};
 }
 
 Vec3 SimilarityTransform::apply_vector(const Vec3& vector) const noexcept {
@@ -194,20 +182,16 @@ Quaternion SimilarityTransform::quaternion() const noexcept {
   Quaternion q;
   if (trace >= m[0][0] && trace >= m[1][1] && trace >= m[2][2]) {
     const double r = std::sqrt(1.0 + trace);
-    q = {0.5 * r, (m[2][1] - m[1][2]) / (2.0 * r), (m[0][2] - m[2][0]) / (2.0 * r),
-         (m[1][0] - m[0][1]) / (2.0 * r)};
+    q = {0.5 * r, (m[2][1] - m[1][2]) / (2.0 * r), (m[0][2] - m[2][0]) / (2.0 * r), (m[1][0] - m[0][1]) / (2.0 * r)};
   } else if (m[0][0] >= m[1][1] && m[0][0] >= m[2][2]) {
     const double r = std::sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]);
-    q = {(m[2][1] - m[1][2]) / (2.0 * r), 0.5 * r, (m[0][1] + m[1][0]) / (2.0 * r),
-         (m[0][2] + m[2][0]) / (2.0 * r)};
+    q = {(m[2][1] - m[1][2]) / (2.0 * r), 0.5 * r, (m[0][1] + m[1][0]) / (2.0 * r), (m[0][2] + m[2][0]) / (2.0 * r)};
   } else if (m[1][1] >= m[2][2]) {
     const double r = std::sqrt(1.0 - m[0][0] + m[1][1] - m[2][2]);
-    q = {(m[0][2] - m[2][0]) / (2.0 * r), (m[0][1] + m[1][0]) / (2.0 * r), 0.5 * r,
-         (m[1][2] + m[2][1]) / (2.0 * r)};
+    q = {(m[0][2] - m[2][0]) / (2.0 * r), (m[0][1] + m[1][0]) / (2.0 * r), 0.5 * r, (m[1][2] + m[2][1]) / (2.0 * r)};
   } else {
     const double r = std::sqrt(1.0 - m[0][0] - m[1][1] + m[2][2]);
-    q = {(m[1][0] - m[0][1]) / (2.0 * r), (m[0][2] + m[2][0]) / (2.0 * r),
-         (m[1][2] + m[2][1]) / (2.0 * r), 0.5 * r};
+    q = {(m[1][0] - m[0][1]) / (2.0 * r), (m[0][2] + m[2][0]) / (2.0 * r), (m[1][2] + m[2][1]) / (2.0 * r), 0.5 * r};
   }
   const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
   const double sign = q.w < 0.0 ? -1.0 : 1.0;
@@ -216,8 +200,8 @@ Quaternion SimilarityTransform::quaternion() const noexcept {
 
 Calibration calibrate_umeyama(std::span<const Vec3> glove, std::span<const Vec3> model) {
   if (glove.size() != model.size()) {
-    fail("calibrate: " + std::to_string(glove.size()) + " glove landmarks but " +
-         std::to_string(model.size()) + " model landmarks; they must be pairs");
+    fail("calibrate: " + std::to_string(glove.size()) + " glove landmarks but " + std::to_string(model.size()) +
+         " model landmarks; they must be pairs");
   }
   if (glove.size() < 3) {
     fail("calibrate: " + std::to_string(glove.size()) + " landmark pairs; at least 3 are needed");
@@ -268,8 +252,7 @@ Calibration calibrate_umeyama(std::span<const Vec3> glove, std::span<const Vec3>
     for (int j = 0; j < 3; ++j) rotation[i][j] = r(i, j);
   }
   Calibration c;
-  c.transform =
-      SimilarityTransform::from_scale_rotation_translation(scale, rotation, {t[0], t[1], t[2]});
+  c.transform = SimilarityTransform::from_scale_rotation_translation(scale, rotation, {t[0], t[1], t[2]});
   double sum_sq = 0.0;
   for (std::size_t i = 0; i < glove.size(); ++i) {
     const Vec3 p = c.transform.apply(glove[i]);

@@ -37,9 +37,7 @@ deform::DeformSettings prepared(StationSettings& s, const deform::PointModel& mo
   d.max_probes = s.fingers.size();
   d.traction = haptics;
   switch (s.region.kind) {
-    case RegionPolicy::Kind::kGlobal:
-      d.region.kind = deform::RegionSettings::Kind::kGlobal;
-      break;
+    case RegionPolicy::Kind::kGlobal: d.region.kind = deform::RegionSettings::Kind::kGlobal; break;
     case RegionPolicy::Kind::kRadius:
       d.region.kind = deform::RegionSettings::Kind::kRadius;
       d.region.radius = s.region.radius;
@@ -80,7 +78,8 @@ Station::Station(deform::PointModel& model, StationSettings settings, std::uniqu
   fingers_.resize(settings_.fingers.size());
   tracks_.reserve(settings_.fingers.size());
   for (std::size_t i = 0; i < settings_.fingers.size(); ++i) {
-    tracks_.push_back(Track{OneEuroFilter3(settings_.filter, settings_.glove_rate_hz), DeadBand(settings_.delta_s), false});
+    tracks_.push_back(
+        Track{OneEuroFilter3(settings_.filter, settings_.glove_rate_hz), DeadBand(settings_.delta_s), false});
   }
   probes_.reserve(settings_.fingers.size());
   probe_finger_.reserve(settings_.fingers.size());
@@ -175,8 +174,8 @@ void Station::size_region(std::int64_t budget_ns) noexcept {
   // The work is proportional to points x forces; aim the next region at what the remaining
   // budget can pay for, nearest points first (the region is a ball around each contact).
   const double forces = static_cast<double>(std::max<std::size_t>(probes_.size(), 1));
-  const double allowed = settings_.region.budget_fraction * static_cast<double>(budget_ns) /
-                         (cost_per_point_force_ns_ * forces);
+  const double allowed =
+      settings_.region.budget_fraction * static_cast<double>(budget_ns) / (cost_per_point_force_ns_ * forces);
   const double current = deformer_.settings().region.radius;
   const double scale = std::sqrt(std::max(allowed, 1.0) / static_cast<double>(last.region_points));
   deformer_.set_region_radius(current * std::clamp(scale, 0.5, 2.0));

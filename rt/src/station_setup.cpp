@@ -63,8 +63,7 @@ void check_against_model(const StationSetup& s, const Scene& scene) {
     names.regularization = "kernel.eps";
     deform::check_settings_against_model(s.settings.deform, s.model, names);
     const deform::ModelExtent extent = deform::ModelExtent::of(s.model);
-    deform::check_length_against_model("deform.delta_s", s.settings.delta_s, deform::LengthRule::kNonNegative,
-                                       extent);
+    deform::check_length_against_model("deform.delta_s", s.settings.delta_s, deform::LengthRule::kNonNegative, extent);
     if (s.settings.region.kind == RegionPolicy::Kind::kRadius) {
       deform::check_length_against_model("heuristic.region", s.settings.region.radius, deform::LengthRule::kPositive,
                                          extent);

@@ -26,17 +26,15 @@ std::string frame_name(std::int64_t id) { return "frame " + std::to_string(id); 
 
 deform::Kernel kernel_of(const CollisionRecord& r) {
   deform::Kernel k;
-  k.kind = r.kernel == logging::KernelKind::kRegularized ? deform::KernelKind::kRegularized
-                                                         : deform::KernelKind::kKelvin;
+  k.kind =
+      r.kernel == logging::KernelKind::kRegularized ? deform::KernelKind::kRegularized : deform::KernelKind::kKelvin;
   k.regularization = r.kernel_eps;
   k.material.shear_modulus = r.shear_modulus;
   k.material.poisson_ratio = r.poisson_ratio;
   return k;
 }
 
-bool finite(const logging::Vec3d& v) {
-  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
+bool finite(const logging::Vec3d& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 }  // namespace
 
@@ -46,9 +44,8 @@ FrameTransfer::FrameTransfer(deform::PointModel& target, const TransferOptions& 
   if (!(options_.rebuild_drift >= 0.0) || !std::isfinite(options_.rebuild_drift)) {
     throw std::invalid_argument("transfer: the rebuild drift must be finite and >= 0");
   }
-  rebuild_drift_ = options_.rebuild_drift > 0.0
-                       ? options_.rebuild_drift
-                       : kDefaultRebuildFraction * model_.bounding_box_diagonal();
+  rebuild_drift_ =
+      options_.rebuild_drift > 0.0 ? options_.rebuild_drift : kDefaultRebuildFraction * model_.bounding_box_diagonal();
   index_.rebuild(model_);
   const std::size_t n = model_.size();
   points_.reserve(n);
@@ -61,8 +58,8 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
   if (frame.empty()) return;
   const std::int64_t id = frame.front().frame_id;
   if (frame.size() > deform::kMaxSources) {
-    reject(id, std::to_string(frame.size()) + " events, more than the " +
-                   std::to_string(deform::kMaxSources) + " sources one frame can hold");
+    reject(id, std::to_string(frame.size()) + " events, more than the " + std::to_string(deform::kMaxSources) +
+                   " sources one frame can hold");
   }
   // Validate everything first: a rejected frame must leave the model untouched.
   const CollisionRecord& first = frame.front();
@@ -80,17 +77,15 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
       reject(id, "event " + std::to_string(e) + " belongs to " + frame_name(r.frame_id));
     }
     // One jointly solved frame has one kernel; events that disagree were not solved together.
-    if (r.kernel != first.kernel || r.kernel_eps != first.kernel_eps ||
-        r.shear_modulus != first.shear_modulus || r.poisson_ratio != first.poisson_ratio) {
+    if (r.kernel != first.kernel || r.kernel_eps != first.kernel_eps || r.shear_modulus != first.shear_modulus ||
+        r.poisson_ratio != first.poisson_ratio) {
       reject(id, "its events disagree on the kernel or material");
     }
     if (!finite(r.source) || !finite(r.effective_force)) {
       reject(id, "event " + std::to_string(e) + " has a non-finite source or effective force");
     }
     switch (r.region_kind) {
-      case RegionKind::kGlobal:
-        global = true;
-        break;
+      case RegionKind::kGlobal: global = true; break;
       case RegionKind::kRadius:
         if (!(r.region_radius > 0.0) || !std::isfinite(r.region_radius) || !finite(r.region_centre)) {
           char radius[32];
@@ -98,10 +93,8 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
           reject(id, "event " + std::to_string(e) + " has a radius region with radius " + radius);
         }
         break;
-      case RegionKind::kIndexSet:
-        reject(id, "an index-set region cannot be transferred (its points are not recorded)");
-      default:
-        reject(id, "unknown region kind");
+      case RegionKind::kIndexSet: reject(id, "an index-set region cannot be transferred (its points are not recorded)");
+      default: reject(id, "unknown region kind");
     }
     forces[e] = {to_vec(r.source), to_vec(r.effective_force)};
   }
@@ -152,8 +145,7 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
 }
 
 TransferStats transfer(deform::PointModel& target, std::span<const CollisionRecord> events,
-                       const std::function<void(std::size_t, std::size_t)>& progress,
-                       const TransferOptions& options) {
+                       const std::function<void(std::size_t, std::size_t)>& progress, const TransferOptions& options) {
   // Pass 1: the frame boundaries. A frame whose events are split by another frame is named as
   // such before any size is checked, since its pieces would otherwise only show up as size
   // mismatches.
@@ -179,8 +171,7 @@ TransferStats transfer(deform::PointModel& target, std::span<const CollisionReco
     }
     if (size > deform::kMaxSources) {
       reject(events[begin[f]].frame_id, std::to_string(size) + " events, more than the " +
-                                            std::to_string(deform::kMaxSources) +
-                                            " sources one frame can hold");
+                                            std::to_string(deform::kMaxSources) + " sources one frame can hold");
     }
   }
 
@@ -197,9 +188,8 @@ TransferStats transfer(deform::PointModel& target, std::span<const CollisionReco
   return stats;
 }
 
-std::size_t append_frame_records(const deform::FrameReport& report,
-                                 const deform::DeformSettings& settings, std::int64_t frame_id,
-                                 std::int64_t tick, std::vector<CollisionRecord>& out) {
+std::size_t append_frame_records(const deform::FrameReport& report, const deform::DeformSettings& settings,
+                                 std::int64_t frame_id, std::int64_t tick, std::vector<CollisionRecord>& out) {
   if (report.collisions == 0 || !report.solve.ok) return 0;
   if (settings.region.kind == deform::RegionSettings::Kind::kIndices) {
     throw std::invalid_argument("transfer: an index-set region cannot be recorded for transfer");

@@ -55,9 +55,7 @@ std::string contents(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-void put(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
+void put(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
 
 // RLIMIT_FSIZE makes write() fail with EFBIG once a file would grow past the limit: a disk
 // that fills up in the middle of the write. SIGXFSZ is ignored so the process survives it.
@@ -121,8 +119,8 @@ TEST_F(AtomicFile, AWriteThatFailsHalfWayLeavesTheOldFileAndNoTemporary) {
   put(at("model.ply"), old_bytes);
   {
     const FileSizeLimit limit(4096);
-    expect_refused([&] { write_file_atomically(at("model.ply"), std::string(100000, 'n')); },
-                   at("model.ply"), "cannot write (File too large)");
+    expect_refused([&] { write_file_atomically(at("model.ply"), std::string(100000, 'n')); }, at("model.ply"),
+                   "cannot write (File too large)");
   }
   EXPECT_EQ(contents(at("model.ply")), old_bytes);
   EXPECT_EQ(entries(), std::vector<std::string>{"model.ply"});
@@ -134,8 +132,7 @@ TEST_F(AtomicFile, WritePlyThatFailsHalfWayLeavesTheOldFile) {
   const std::string old_bytes = contents(at("sphere.ply"));
   {
     const FileSizeLimit limit(old_bytes.size() + 100);
-    expect_refused([&] { write_ply(at("sphere.ply"), make_sphere(5000)); }, at("sphere.ply"),
-                   "cannot write");
+    expect_refused([&] { write_ply(at("sphere.ply"), make_sphere(5000)); }, at("sphere.ply"), "cannot write");
   }
   EXPECT_EQ(contents(at("sphere.ply")), old_bytes);
   EXPECT_EQ(entries(), std::vector<std::string>{"sphere.ply"});
@@ -181,8 +178,7 @@ TEST_F(AtomicFile, AReadOnlyFolderIsRefusedAndTheFileKept) {
   if (::geteuid() == 0) GTEST_SKIP() << "root writes into read-only folders";
   put(at("kept.txt"), "kept");
   fs::permissions(folder_, fs::perms::owner_read | fs::perms::owner_exec);
-  expect_refused([&] { write_file_atomically(at("kept.txt"), "new"); }, at("kept.txt"),
-                 "Permission denied");
+  expect_refused([&] { write_file_atomically(at("kept.txt"), "new"); }, at("kept.txt"), "Permission denied");
   fs::permissions(folder_, fs::perms::owner_all);
   EXPECT_EQ(contents(at("kept.txt")), "kept");
   EXPECT_EQ(entries(), std::vector<std::string>{"kept.txt"});
@@ -193,8 +189,7 @@ TEST_F(AtomicFile, ADirectoryOrFifoAtThePathIsRefusedAndLeftAsItIs) {
   expect_refused([&] { write_file_atomically(at("dir.ply"), "x"); }, at("dir.ply"), "is a directory");
   EXPECT_TRUE(fs::is_directory(at("dir.ply")));
   ASSERT_EQ(::mkfifo(at("pipe.ply").c_str(), 0600), 0);
-  expect_refused([&] { write_file_atomically(at("pipe.ply"), "x"); }, at("pipe.ply"),
-                 "not a regular file");
+  expect_refused([&] { write_file_atomically(at("pipe.ply"), "x"); }, at("pipe.ply"), "not a regular file");
   EXPECT_TRUE(fs::is_fifo(at("pipe.ply")));
   EXPECT_EQ(entries(), (std::vector<std::string>{"dir.ply", "pipe.ply"}));
 }

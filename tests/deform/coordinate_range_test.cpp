@@ -37,7 +37,8 @@ void expect_refused(const std::string& message, const std::string& where) {
 
 std::string ascii_ply(const std::string& second_vertex) {
   return "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
-         "end_header\n0 0 0\n" + second_vertex + "\n";
+         "end_header\n0 0 0\n" +
+         second_vertex + "\n";
 }
 
 const std::string kBinaryHeader =
@@ -67,8 +68,8 @@ TEST(CoordinateRange, PlyAsciiRefusesAVertexAtFltMax) {
 TEST(CoordinateRange, PlyBinaryRefusesAVertexAtFltMax) {
   const std::string message = outcome(read_ply_from_buffer, binary_ply(0.0F, 0.0F, FLT_MAX), "bad.ply");
   // The offset is that of the vertex: the header, then one vertex of three floats.
-  expect_refused(message, "bad.ply: byte offset " + std::to_string(kBinaryHeader.size() + 12) +
-                              ": 'z' = 3.40282e+38 in vertex 1");
+  expect_refused(
+      message, "bad.ply: byte offset " + std::to_string(kBinaryHeader.size() + 12) + ": 'z' = 3.40282e+38 in vertex 1");
 }
 
 TEST(CoordinateRange, OffRefusesAVertexAtFltMax) {
@@ -93,8 +94,8 @@ TEST(CoordinateRange, ValidateRefusesWhatTheReadersRefuse) {
   m.push_back({0, 0, 0});
   m.push_back({0, 1e17, 0});
   EXPECT_NO_THROW(m.validate());
-  for (const float bad : {FLT_MAX, -2e18F, std::numeric_limits<float>::infinity(),
-                          std::numeric_limits<float>::quiet_NaN()}) {
+  for (const float bad :
+       {FLT_MAX, -2e18F, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
     PointModel copy = m;
     copy.y[1] = bad;
     try {

@@ -191,18 +191,18 @@ RegionOutcome press_in_region(double radius, double border_weight, bool check_ou
     EXPECT_EQ(r.region_points, inside);
   }
   return {r.max_border_displacement / r.max_contact_displacement, r.max_border_displacement,
-          norm(model.position(r.contacts[0].nearest) - push.current) / norm(r.contacts[0].force),
-          r.region_points, r.border_points};
+          norm(model.position(r.contacts[0].nearest) - push.current) / norm(r.contacts[0].force), r.region_points,
+          r.border_points};
 }
 
 TEST(Deformer, RegionLeavesOutsidePointsBitIdenticalAndBoundsTheBand) {
   const double radius = 0.6;
   const RegionOutcome plain = press_in_region(radius, 1.0, true);
   const RegionOutcome firm = press_in_region(radius, 10.0, false);
-  std::printf("[ region ] radius %.2f: %zu points, band %zu; band/contact displacement %.4f "
-              "(border weight 1), %.4f (weight 10); contact miss %.3f / %.3f of depth\n",
-              radius, plain.points, plain.band, plain.band_ratio, firm.band_ratio,
-              plain.contact_miss, firm.contact_miss);
+  std::printf(
+      "[ region ] radius %.2f: %zu points, band %zu; band/contact displacement %.4f "
+      "(border weight 1), %.4f (weight 10); contact miss %.3f / %.3f of depth\n",
+      radius, plain.points, plain.band, plain.band_ratio, firm.band_ratio, plain.contact_miss, firm.contact_miss);
   // Bound: the Kelvin field decays as 1/R, so the band, at least R - w ~ 0.57 from the contact,
   // sees at most ~h / (R - w) ~ 0.1 / 0.57 of what a source h ~ 0.1 above the contact gives it.
   EXPECT_LT(plain.band_ratio, 0.1 / (radius - 0.03) * 1.2);
@@ -334,9 +334,8 @@ TEST(Deformer, TractionAheadOfTheSourceIsCompressiveAndLinearInDepth) {
       PointModel sphere = make_sphere();
       const Vec3 d = lattice_direction(sphere, {0.0, 0.0, 1.0});
       const double depth = 0.02 * (k + 1);
-      const ProbeMotion probe = mode == ContactMode::kPush
-                                    ? ProbeMotion{d * 1.1, d * (1.0 - depth), std::nullopt}
-                                    : ProbeMotion{d * 0.9, d * (1.0 + depth), std::nullopt};
+      const ProbeMotion probe = mode == ContactMode::kPush ? ProbeMotion{d * 1.1, d * (1.0 - depth), std::nullopt}
+                                                           : ProbeMotion{d * 0.9, d * (1.0 + depth), std::nullopt};
       Deformer deformer(sphere, s);
       const ContactReport& c = deformer.deform({&probe, 1}).contacts[0];
       ASSERT_TRUE(c.has_traction);

@@ -43,7 +43,9 @@ std::vector<Case> random_cases(unsigned seed, int count) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<Case> cases;
   while (static_cast<int>(cases.size()) < count) {
-    Case c{{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)},
+    Case c{{u(rng), u(rng), u(rng)},
+           {u(rng), u(rng), u(rng)},
+           {u(rng), u(rng), u(rng)},
            normalized(Vec3{u(rng), u(rng), u(rng)})};
     if (norm(c.point - c.source) > 0.3) cases.push_back(c);
   }
@@ -65,8 +67,8 @@ TEST(KelvinKernel, SatisfiesNaviersEquationAwayFromTheSource) {
       auto d2 = [&](int a, int b) {
         const Vec3 ea = unit_axis(a) * h, eb = unit_axis(b) * h;
         if (a == b) return (u(c.point + ea) - u(c.point) * 2.0 + u(c.point - ea)) * (1.0 / (h * h));
-        return (u(c.point + ea + eb) - u(c.point + ea - eb) - u(c.point - ea + eb) +
-                u(c.point - ea - eb)) * (1.0 / (4.0 * h * h));
+        return (u(c.point + ea + eb) - u(c.point + ea - eb) - u(c.point - ea + eb) + u(c.point - ea - eb)) *
+               (1.0 / (4.0 * h * h));
       };
       Vec3 laplacian, grad_div;
       double scale = 0.0;

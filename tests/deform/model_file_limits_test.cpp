@@ -90,8 +90,7 @@ TEST(DeclaredCounts, BinaryVerticesBeyondTheBytesLeftAreRefusedAtTheBodyOffset) 
   const std::string end = std::to_string(header.size() + 12);
   expect_message([&] { read_ply_from_buffer(bytes, "lie.ply"); },
                  "lie.ply: byte offset " + end +
-                     ": body truncated: expected 1000000000 vertices, read 1 (the file ends at byte " +
-                     end + ")");
+                     ": body truncated: expected 1000000000 vertices, read 1 (the file ends at byte " + end + ")");
 }
 
 TEST(DeclaredCounts, BinaryFacesBeyondTheBytesLeftAreRefusedNamingTheFaces) {
@@ -145,7 +144,8 @@ TEST(TrailingData, AsciiPlyMayEndWithBlankAndCommentLines) {
 TEST(TrailingData, BinaryPlyMayEndWithANewline) {
   const std::string bytes =
       "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-      "property float z\nend_header\n" + le_float(1) + le_float(2) + le_float(3) + "\n";
+      "property float z\nend_header\n" +
+      le_float(1) + le_float(2) + le_float(3) + "\n";
   EXPECT_EQ(read_ply_from_buffer(bytes, "ok.ply").size(), 1u);
 }
 

@@ -133,8 +133,7 @@ TEST(CheckNormals, RefuseNamesTheFirstBadVertexAndChangesNothing) {
     check_normals(m, NormalPolicy::kRefuse, "scan.ply");
     FAIL() << "a NaN normal was accepted";
   } catch (const ModelFileError& e) {
-    EXPECT_NE(std::string(e.what()).find("scan.ply: vertex 30 has a non-finite normal"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("scan.ply: vertex 30 has a non-finite normal"), std::string::npos) << e.what();
   }
 }
 

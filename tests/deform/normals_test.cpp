@@ -101,8 +101,7 @@ TEST(Normals, FaceNormalsOfATetrahedronAreAreaWeighted) {
 
 TEST(Normals, FaceNormalsOfAnOctahedronPointAlongTheAxes) {
   PointModel m;
-  for (const Vec3& p : {Vec3{1, 0, 0}, Vec3{-1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, -1, 0},
-                        Vec3{0, 0, 1}, Vec3{0, 0, -1}}) {
+  for (const Vec3& p : {Vec3{1, 0, 0}, Vec3{-1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, -1, 0}, Vec3{0, 0, 1}, Vec3{0, 0, -1}}) {
     m.push_back(p * 3.0);
   }
   // Each octant's face, wound so (b - a) x (c - a) points away from the centre.

@@ -19,8 +19,7 @@ namespace {
 
 // Expects read to throw ModelFileError whose what() contains `expected`.
 template <typename Read>
-void expect_error(Read read, const std::string& name, const std::string& text,
-                  const std::string& expected) {
+void expect_error(Read read, const std::string& name, const std::string& text, const std::string& expected) {
   try {
     const PointModel m = read(text, name);
     ADD_FAILURE() << "accepted:\n" << text << "\n(read " << m.size() << " points)";
@@ -103,14 +102,11 @@ TEST(OffReader, NormalsColoursCrLfAndExtraValues) {
   EXPECT_EQ(p.position(0), (Vec3{1, 2, 3}));
 }
 
-TEST(OffReader, EmptyMeshIsAnEmptyModel) {
-  EXPECT_TRUE(read_off_from_buffer("OFF\n0 0 0\n", "e.off").empty());
-}
+TEST(OffReader, EmptyMeshIsAnEmptyModel) { EXPECT_TRUE(read_off_from_buffer("OFF\n0 0 0\n", "e.off").empty()); }
 
 TEST(OffReader, MalformedFilesNameLineAndProblem) {
   expect_off_error("", "bad.off: line 1: empty file: missing 'OFF' header keyword");
-  expect_off_error("PLY\n1 0 0\n0 0 0\n",
-                   "bad.off: line 1: missing 'OFF' header keyword (found 'PLY')");
+  expect_off_error("PLY\n1 0 0\n0 0 0\n", "bad.off: line 1: missing 'OFF' header keyword (found 'PLY')");
   expect_off_error("4OFF\n1 0 0\n0 0 0 0\n", "bad.off: line 1: unsupported OFF variant '4OFF'");
   expect_off_error("OFF\n", "bad.off: line 2: missing vertex and face counts");
   expect_off_error("OFF\nthree 1 0\n", "bad.off: line 2: bad vertex count 'three'");
@@ -118,18 +114,13 @@ TEST(OffReader, MalformedFilesNameLineAndProblem) {
   expect_off_error("OFF\n3\n", "bad.off: line 2: missing face count");
   expect_off_error("OFF\n1 0 x\n0 0 0\n", "bad.off: line 2: bad edge count 'x'");
   expect_off_error("OFF\n1 0 0 7\n0 0 0\n", "bad.off: line 2: unexpected text after");
-  expect_off_error("OFF\n100000 0 0\n0 0 0\n",
-                   "bad.off: line 2: vertex count 100000 is more than the file can hold");
+  expect_off_error("OFF\n100000 0 0\n0 0 0\n", "bad.off: line 2: vertex count 100000 is more than the file can hold");
   expect_off_error("OFF\n3 0 0\n0 0 0\n# comment\n1 1 1\n",
                    "bad.off: line 6: file truncated: expected 3 vertices, read 2");
-  expect_off_error("OFF\n2 0 0\n0 0 0\n1 one 1\n",
-                   "bad.off: line 4: 'one' is not a number (y of vertex 1)");
-  expect_off_error("OFF\n2 0 0\n0 0 0\n1 1\n",
-                   "bad.off: line 4: too few values for vertex 1: no z");
-  expect_off_error("NOFF\n1 0 0\n0 0 0 1 0\n",
-                   "bad.off: line 3: too few values for vertex 0: no nz");
-  expect_off_error("COFF\n1 0 0\n0 0 0 1 0\n",
-                   "bad.off: line 3: too few values for vertex 0: no colour");
+  expect_off_error("OFF\n2 0 0\n0 0 0\n1 one 1\n", "bad.off: line 4: 'one' is not a number (y of vertex 1)");
+  expect_off_error("OFF\n2 0 0\n0 0 0\n1 1\n", "bad.off: line 4: too few values for vertex 1: no z");
+  expect_off_error("NOFF\n1 0 0\n0 0 0 1 0\n", "bad.off: line 3: too few values for vertex 0: no nz");
+  expect_off_error("COFF\n1 0 0\n0 0 0 1 0\n", "bad.off: line 3: too few values for vertex 0: no colour");
   expect_off_error("OFF\n1 0 0\nnan 0 0\n", "bad.off: line 3: non-finite coordinate in vertex 0");
   expect_off_error("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
                    "bad.off: line 7: file truncated: expected 2 faces, read 1");
@@ -138,10 +129,8 @@ TEST(OffReader, MalformedFilesNameLineAndProblem) {
   expect_off_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n", "refers to vertex -1");
   expect_off_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n",
                    "bad.off: line 6: face 0 lists 4 corners but the line has only 3 indices");
-  expect_off_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n",
-                   "'1.5' is not a vertex index (face 0)");
-  expect_off_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\nthree 0 1 2\n",
-                   "bad corner count 'three' for face 0");
+  expect_off_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", "'1.5' is not a vertex index (face 0)");
+  expect_off_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\nthree 0 1 2\n", "bad corner count 'three' for face 0");
 }
 
 TEST(OffFuzz, SeededCorruptionIsRefusedCleanly) {
@@ -172,8 +161,7 @@ TEST(OffFuzz, SeededCorruptionIsRefusedCleanly) {
 // XYZ
 
 TEST(XyzReader, PositionsWithCommentsBlankLinesAndCrLf) {
-  const std::string text =
-      "# exported points\n\n1 2 3\r\n  -4.5\t5e-1 6 # trailing comment\n\n7 8 9";
+  const std::string text = "# exported points\n\n1 2 3\r\n  -4.5\t5e-1 6 # trailing comment\n\n7 8 9";
   const PointModel m = read_xyz_from_buffer(text, "p.xyz");
   ASSERT_EQ(m.size(), 3u);
   EXPECT_FALSE(m.has_normals());
@@ -195,16 +183,13 @@ TEST(XyzReader, EmptyAndCommentOnlyFilesAreEmptyModels) {
 }
 
 TEST(XyzReader, MalformedFilesNameLineAndProblem) {
-  expect_xyz_error("1 2\n",
-                   "bad.xyz: line 1: expected 3 values (x y z) or 6 (x y z nx ny nz), found 2");
+  expect_xyz_error("1 2\n", "bad.xyz: line 1: expected 3 values (x y z) or 6 (x y z nx ny nz), found 2");
   expect_xyz_error("1 2 3 4\n", "line 1: expected 3 values (x y z) or 6 (x y z nx ny nz), found 4");
-  expect_xyz_error("# head\n1 2 3\n1 2 3 0 0 1\n",
-                   "bad.xyz: line 3: expected 3 values like line 2, found 6");
+  expect_xyz_error("# head\n1 2 3\n1 2 3 0 0 1\n", "bad.xyz: line 3: expected 3 values like line 2, found 6");
   expect_xyz_error("1 2 3\n4 five 6\n", "bad.xyz: line 2: 'five' is not a number (y of point 1)");
   expect_xyz_error("1 2 3 0 0 1\n4 5 6 0 0 one\n", "line 2: 'one' is not a number (nz of point 1)");
   expect_xyz_error("1 2 3\ninf 0 0\n", "bad.xyz: line 2: non-finite 'x' in point 1");
-  expect_xyz_error("5210\n1 2 3\n",
-                   "line 1: expected 3 values (x y z) or 6 (x y z nx ny nz), found 1");
+  expect_xyz_error("5210\n1 2 3\n", "line 1: expected 3 values (x y z) or 6 (x y z nx ny nz), found 1");
 }
 
 TEST(XyzWriter, RoundTripsFloatsExactly) {

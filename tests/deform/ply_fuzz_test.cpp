@@ -201,9 +201,7 @@ TEST_P(PlyFuzz, SeededCorruptionNeverEscapesAsAnotherError) {
       switch (rng() % 6) {
         case 0: bytes[at] = static_cast<char>(bytes[at] ^ (1 << (rng() % 8))); break;
         case 1: bytes[at] = static_cast<char>(rng() % 256); break;
-        case 2:
-          bytes[at] = static_cast<char>(interesting_bytes[rng() % std::size(interesting_bytes)]);
-          break;
+        case 2: bytes[at] = static_cast<char>(interesting_bytes[rng() % std::size(interesting_bytes)]); break;
         case 3: {
           const std::uint32_t word = interesting_words[rng() % std::size(interesting_words)];
           for (std::size_t k = 0; k < 4 && at + k < bytes.size(); ++k) {
@@ -212,10 +210,7 @@ TEST_P(PlyFuzz, SeededCorruptionNeverEscapesAsAnotherError) {
           break;
         }
         case 4: bytes.erase(at, 1); break;
-        default:
-          bytes.insert(at, 1,
-                       static_cast<char>(interesting_bytes[rng() % std::size(interesting_bytes)]));
-          break;
+        default: bytes.insert(at, 1, static_cast<char>(interesting_bytes[rng() % std::size(interesting_bytes)])); break;
       }
     }
     read_one(bytes, outcome, "iteration " + std::to_string(iteration));
@@ -236,8 +231,7 @@ TEST_P(PlyFuzz, InflatedCountsAreRefusedWithoutAllocating) {
       std::string bytes = base;
       const std::size_t at = bytes.find(element) + std::strlen(element);
       bytes.insert(at, digits);
-      EXPECT_THROW(read_ply_from_buffer(bytes, "inflated.ply"), ModelFileError)
-          << element << digits;
+      EXPECT_THROW(read_ply_from_buffer(bytes, "inflated.ply"), ModelFileError) << element << digits;
     }
   }
 }

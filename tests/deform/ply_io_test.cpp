@@ -96,9 +96,7 @@ class PlyBuilder {
     return *this;
   }
 
-  std::string build() const {
-    return std::string("ply\n") + format_line(encoding_) + header_ + "end_header\n" + body_;
-  }
+  std::string build() const { return std::string("ply\n") + format_line(encoding_) + header_ + "end_header\n" + body_; }
 
  private:
   template <typename T>
@@ -119,7 +117,7 @@ class PlyBuilder {
 // short decimal form, so "bit-exact" really is tested. The extremes are the largest magnitudes
 // a model may hold (just below kMaxCoordinate), since larger ones are refused.
 PointModel awkward_model(std::size_t n, bool normals, bool colors, bool alpha, unsigned seed) {
-  const float kLargest = std::nextafter(static_cast<float>(kMaxCoordinate), 0.0F);
+  const float largest = std::nextafter(static_cast<float>(kMaxCoordinate), 0.0F);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> coord(-1000.0F, 1000.0F);
   std::uniform_int_distribution<int> byte(0, 255);
@@ -128,8 +126,8 @@ PointModel awkward_model(std::size_t n, bool normals, bool colors, bool alpha, u
                             std::numeric_limits<float>::denorm_min(),
                             -std::numeric_limits<float>::denorm_min(),
                             std::numeric_limits<float>::min(),
-                            kLargest,
-                            -kLargest,
+                            largest,
+                            -largest,
                             1.0F / 3.0F,
                             0.1F,
                             16777217.0F,
@@ -140,8 +138,7 @@ PointModel awkward_model(std::size_t n, bool normals, bool colors, bool alpha, u
   for (std::size_t i = 0; i < n; ++i) {
     m.x[i] = i < std::size(specials) ? specials[i] : coord(rng);
     m.y[i] = coord(rng) * 1e-3F;
-    m.z[i] =
-        i + 1 < std::size(specials) ? specials[std::size(specials) - 1 - i] : coord(rng) * 1e5F;
+    m.z[i] = i + 1 < std::size(specials) ? specials[std::size(specials) - 1 - i] : coord(rng) * 1e5F;
     if (normals) {
       m.nx[i] = coord(rng) / 1000.0F;
       m.ny[i] = i == 0 ? -0.0F : coord(rng) / 1000.0F;
@@ -158,8 +155,7 @@ PointModel awkward_model(std::size_t n, bool normals, bool colors, bool alpha, u
 }
 
 // Compares float arrays bit for bit (so -0.0 != 0.0 and denormals must survive).
-void expect_bits_equal(const std::vector<float>& expected, const std::vector<float>& actual,
-                       const char* what) {
+void expect_bits_equal(const std::vector<float>& expected, const std::vector<float>& actual, const char* what) {
   ASSERT_EQ(expected.size(), actual.size()) << what;
   for (std::size_t i = 0; i < expected.size(); ++i) {
     ASSERT_EQ(std::bit_cast<std::uint32_t>(expected[i]), std::bit_cast<std::uint32_t>(actual[i]))
@@ -219,8 +215,7 @@ TEST_P(PlyRoundTrip, ColoursWithAlpha) {
 }
 
 TEST_P(PlyRoundTrip, EmptyModel) {
-  const PointModel back =
-      read_ply_from_buffer(write_ply_to_buffer(PointModel{}, GetParam()), "e.ply");
+  const PointModel back = read_ply_from_buffer(write_ply_to_buffer(PointModel{}, GetParam()), "e.ply");
   EXPECT_TRUE(back.empty());
   EXPECT_NO_THROW(back.validate());
 }
@@ -237,8 +232,7 @@ TEST_P(PlyRoundTrip, FacesAreWrittenBack) {
   PointModel model = awkward_model(4, true, true, false, 5);
   model.triangles = {0, 1, 2, 0, 2, 3};
   const std::string bytes = write_ply_to_buffer(model, GetParam());
-  EXPECT_NE(bytes.find("element face 2\nproperty list uchar int vertex_indices\nend_header\n"),
-            std::string::npos);
+  EXPECT_NE(bytes.find("element face 2\nproperty list uchar int vertex_indices\nend_header\n"), std::string::npos);
   expect_same_model(model, read_ply_from_buffer(bytes, "m.ply"));
 }
 
@@ -320,10 +314,10 @@ constexpr TypeCase kTypeCases[] = {
     {"double", "float64", 0.1, 123456.789, 2.5e-8},
 };
 
+// NOLINTNEXTLINE(readability-identifier-naming): gtest looks for this name
 void PrintTo(const TypeCase& c, std::ostream* os) { *os << c.name << "/" << c.alias; }
 
-class PlyNumericType
-    : public ::testing::TestWithParam<std::tuple<PlyEncoding, TypeCase, bool /*alias*/>> {};
+class PlyNumericType : public ::testing::TestWithParam<std::tuple<PlyEncoding, TypeCase, bool /*alias*/>> {};
 
 TEST_P(PlyNumericType, ReadsPositionsOfEveryType) {
   const auto& [encoding, type_case, use_alias] = GetParam();
@@ -348,8 +342,8 @@ TEST_P(PlyNumericType, ReadsPositionsOfEveryType) {
 }
 
 INSTANTIATE_TEST_SUITE_P(PlyAllTypes, PlyNumericType,
-                         ::testing::Combine(::testing::ValuesIn(kAllEncodings),
-                                            ::testing::ValuesIn(kTypeCases), ::testing::Bool()),
+                         ::testing::Combine(::testing::ValuesIn(kAllEncodings), ::testing::ValuesIn(kTypeCases),
+                                            ::testing::Bool()),
                          [](const auto& info) {
                            return encoding_label(std::get<0>(info.param)) + "_" +
                                   (std::get<2>(info.param) ? std::get<1>(info.param).alias
@@ -481,10 +475,10 @@ TEST_P(PlyLayout, SkipsExtraPropertiesAndElements) {
     EXPECT_EQ(m.y[i], 10.0F + static_cast<float>(i));
     EXPECT_EQ(m.z[i], 20.0F + static_cast<float>(i));
   }
-  const std::vector<std::uint32_t> expected_triangles = {
-      0, 1, 2,                     // triangle
-      0, 1, 3, 0, 3, 4,            // quad fanned into two
-      4, 3, 2, 4, 2, 1, 4, 1, 0};  // pentagon fanned into three; the 2-gon is dropped
+  const std::vector<std::uint32_t> expected_triangles = {0, 1, 2,           // triangle
+                                                         0, 1, 3, 0, 3, 4,  // quad fanned into two
+                                                         4, 3, 2, 4, 2, 1,
+                                                         4, 1, 0};  // pentagon fanned into three; the 2-gon is dropped
   EXPECT_EQ(m.triangles, expected_triangles);
   EXPECT_NO_THROW(m.validate());
 }
@@ -498,12 +492,7 @@ TEST_P(PlyLayout, FaceElementBeforeVerticesWithVertexIndexName) {
       .line("property float x")
       .line("property float y")
       .line("property float z");
-  ply.value("int", 4)
-      .value("short", 3)
-      .value("short", 2)
-      .value("short", 1)
-      .value("short", 0)
-      .end_row();
+  ply.value("int", 4).value("short", 3).value("short", 2).value("short", 1).value("short", 0).end_row();
   for (int i = 0; i < 4; ++i) ply.value("float", i).value("float", 0).value("float", 0).end_row();
   const PointModel m = read_ply_from_buffer(ply.build(), "order.ply");
   ASSERT_EQ(m.size(), 4u);
@@ -512,10 +501,7 @@ TEST_P(PlyLayout, FaceElementBeforeVerticesWithVertexIndexName) {
 
 TEST_P(PlyLayout, ZeroVerticesIsAnEmptyModel) {
   PlyBuilder ply(GetParam());
-  ply.line("element vertex 0")
-      .line("property float x")
-      .line("property float y")
-      .line("property float z");
+  ply.line("element vertex 0").line("property float x").line("property float y").line("property float z");
   ply.line("element face 0").line("property list uchar int vertex_indices");
   const PointModel m = read_ply_from_buffer(ply.build(), "empty.ply");
   EXPECT_TRUE(m.empty());
@@ -606,13 +592,11 @@ TEST(ModelIo, UnknownExtensionsAreRefusedWithTheirName) {
     read_model("scan.obj");
     FAIL() << "read_model accepted .obj";
   } catch (const ModelFileError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "scan.obj: cannot read models with extension '.obj' (use .ply, .off or .xyz)");
+    EXPECT_EQ(std::string(e.what()), "scan.obj: cannot read models with extension '.obj' (use .ply, .off or .xyz)");
     EXPECT_TRUE(e.where().empty());
   }
   EXPECT_THROW(read_model("no_extension"), ModelFileError);
-  EXPECT_THROW(write_model(temp_path("out.obj"), awkward_model(2, false, false, false, 11)),
-               ModelFileError);
+  EXPECT_THROW(write_model(temp_path("out.obj"), awkward_model(2, false, false, false, 11)), ModelFileError);
 }
 
 TEST(ModelIo, MissingFilesAndDirectoriesAreModelFileErrors) {
@@ -644,8 +628,7 @@ TEST(ModelIo, ErrorsFromFilesNameTheFullPath) {
   } catch (const ModelFileError& e) {
     EXPECT_EQ(e.path(), path);
     EXPECT_EQ(e.where(), "line 8");
-    EXPECT_EQ(std::string(e.what()).rfind(path + ": line 8: 'oops' is not a number", 0), 0u)
-        << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": line 8: 'oops' is not a number", 0), 0u) << e.what();
   }
   std::filesystem::remove(path);
 }

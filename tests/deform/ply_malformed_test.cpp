@@ -49,6 +49,7 @@ struct MalformedCase {
   std::vector<std::string> expected;  // substrings of what(), in addition to the file name
 };
 
+// NOLINTNEXTLINE(readability-identifier-naming): gtest looks for this name
 void PrintTo(const MalformedCase& c, std::ostream* os) { *os << c.label; }
 
 std::vector<MalformedCase> malformed_cases() {
@@ -56,17 +57,15 @@ std::vector<MalformedCase> malformed_cases() {
   auto add = [&cases](std::string label, std::string bytes, std::vector<std::string> expected) {
     cases.push_back({std::move(label), std::move(bytes), std::move(expected)});
   };
-  const float kInf = std::numeric_limits<float>::infinity();
+  const float inf = std::numeric_limits<float>::infinity();
 
   // --- header ---
   add("EmptyFile", "", {"bad.ply: line 1: missing magic 'ply'"});
   add("WrongMagic", "PLY\nformat ascii 1.0\n", {"bad.ply: line 1: missing magic 'ply'"});
-  add("MagicNotAlone", "ply format ascii 1.0\nend_header\n",
-      {"bad.ply: line 1: missing magic 'ply'"});
+  add("MagicNotAlone", "ply format ascii 1.0\nend_header\n", {"bad.ply: line 1: missing magic 'ply'"});
   add("UnknownFormat", "ply\nformat binary_middle_endian 1.0\nend_header\n",
       {"bad.ply: line 2: unknown format 'binary_middle_endian'"});
-  add("UnsupportedVersion", "ply\nformat ascii 2.0\nend_header\n",
-      {"bad.ply: line 2: unsupported version '2.0'"});
+  add("UnsupportedVersion", "ply\nformat ascii 2.0\nend_header\n", {"bad.ply: line 2: unsupported version '2.0'"});
   add("MissingFormat",
       "ply\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 "
       "0 0\n",
@@ -81,11 +80,9 @@ std::vector<MalformedCase> malformed_cases() {
       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
       "property float128 z\nend_header\n",
       {"bad.ply: line 6: unknown property type 'float128'"});
-  add("UnknownListItemType",
-      "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar long vertex_indices\n",
+  add("UnknownListItemType", "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar long vertex_indices\n",
       {"bad.ply: line 4: unknown property type 'long'"});
-  add("FloatListCount",
-      "ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\n",
+  add("FloatListCount", "ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\n",
       {"bad.ply: line 4: list count type 'float' is not an integer type"});
   add("PropertyBeforeElement", "ply\nformat ascii 1.0\nproperty float x\n",
       {"bad.ply: line 3: property before any element"});
@@ -95,8 +92,7 @@ std::vector<MalformedCase> malformed_cases() {
       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
       "property double y\n",
       {"bad.ply: line 6: property 'y' declared twice in element 'vertex'"});
-  add("DuplicateVertexElement",
-      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement vertex 2\n",
+  add("DuplicateVertexElement", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement vertex 2\n",
       {"bad.ply: line 5: element 'vertex' declared twice"});
   add("TextAfterEndHeader", "ply\nformat ascii 1.0\nend_header now\n",
       {"bad.ply: line 3: unexpected text after end_header"});
@@ -126,8 +122,7 @@ std::vector<MalformedCase> malformed_cases() {
       "ply\nformat ascii 1.0\nelement vertex 1\nproperty list uchar float x\nproperty float y\n"
       "property float z\nend_header\n1 0 0 0\n",
       {"bad.ply: line 3: vertex property 'x' is a list"});
-  add("NoVertexElement",
-      "ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n",
+  add("NoVertexElement", "ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n",
       {"bad.ply: line 5: no 'vertex' element"});
   add("FloatFaceIndices",
       "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
@@ -143,8 +138,7 @@ std::vector<MalformedCase> malformed_cases() {
   {
     const std::string header = binary_xyz(400000000);
     add("BinaryCountLargerThanFile", header + le_point(1, 2, 3) + le_point(4, 5, 6),
-        {"bad.ply: " + offset(header, 24) +
-         ": body truncated: expected 400000000 vertices, read 2"});
+        {"bad.ply: " + offset(header, 24) + ": body truncated: expected 400000000 vertices, read 2"});
   }
   add("AsciiCountLargerThanFile", ascii_xyz(2000000) + "1 2 3\n4 5 6\n",
       {"bad.ply: line 8: body truncated: expected 2000000 vertices, but the 12 bytes left can "
@@ -165,15 +159,11 @@ std::vector<MalformedCase> malformed_cases() {
       {"bad.ply: line 8: '2.5x' is not a number (property 'y' of vertex 0)"});
   add("AsciiTooFewValues", ascii_xyz(2) + "1.0 2.0 3.0\n4.0 5.0\n",
       {"bad.ply: line 9: too few values for vertex 1", "before 'z'"});
-  add("AsciiTooManyValues", ascii_xyz(1) + "1 2 3 4\n",
-      {"bad.ply: line 8: too many values for vertex 0"});
-  add("AsciiBodyTruncated",
-      ascii_xyz(3) + "1.000000 2.000000 3.000000\n4.000000 5.000000 6.000000\n",
+  add("AsciiTooManyValues", ascii_xyz(1) + "1 2 3 4\n", {"bad.ply: line 8: too many values for vertex 0"});
+  add("AsciiBodyTruncated", ascii_xyz(3) + "1.000000 2.000000 3.000000\n4.000000 5.000000 6.000000\n",
       {"bad.ply: line 10: body truncated: expected 3 vertices, read 2"});
-  add("AsciiNaN", ascii_xyz(2) + "0 0 0\nnan 0 0\n",
-      {"bad.ply: line 9: non-finite 'x' in vertex 1"});
-  add("AsciiInfinityOverflow", ascii_xyz(1) + "0 -1e39 0\n",
-      {"bad.ply: line 8: non-finite 'y' in vertex 0"});
+  add("AsciiNaN", ascii_xyz(2) + "0 0 0\nnan 0 0\n", {"bad.ply: line 9: non-finite 'x' in vertex 1"});
+  add("AsciiInfinityOverflow", ascii_xyz(1) + "0 -1e39 0\n", {"bad.ply: line 8: non-finite 'y' in vertex 0"});
   add("AsciiFaceIndexOutOfRange",
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
       "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
@@ -199,9 +189,8 @@ std::vector<MalformedCase> malformed_cases() {
     const std::string header = binary_xyz(3);
     add("BinaryBodyTruncated", header + le_point(1, 2, 3) + le_point(4, 5, 6) + le(7.0F),
         {"bad.ply: " + offset(header, 24) + ": body truncated: expected 3 vertices, read 2"});
-    add("BinaryEmptyBody", header,
-        {"bad.ply: " + offset(header, 0) + ": body truncated: expected 3 vertices, read 0"});
-    add("BinaryInfinity", header + le_point(1, 2, 3) + le_point(4, 5, 6) + le_point(7, kInf, 9),
+    add("BinaryEmptyBody", header, {"bad.ply: " + offset(header, 0) + ": body truncated: expected 3 vertices, read 0"});
+    add("BinaryInfinity", header + le_point(1, 2, 3) + le_point(4, 5, 6) + le_point(7, inf, 9),
         {"bad.ply: " + offset(header, 24) + ": non-finite 'y' in vertex 2"});
   }
   {
@@ -209,8 +198,7 @@ std::vector<MalformedCase> malformed_cases() {
         "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty double x\n"
         "property double y\nproperty double z\nproperty float nx\nproperty float ny\n"
         "property float nz\nend_header\n";
-    add("BinaryDoubleOverflowsFloat",
-        header + le(0.0) + le(0.0) + le(1e300) + le(0.0F) + le(0.0F) + le(1.0F),
+    add("BinaryDoubleOverflowsFloat", header + le(0.0) + le(0.0) + le(1e300) + le(0.0F) + le(0.0F) + le(1.0F),
         {"bad.ply: " + offset(header, 0) + ": non-finite 'z' in vertex 0"});
   }
   {
@@ -220,10 +208,8 @@ std::vector<MalformedCase> malformed_cases() {
         "property list uchar int vertex_indices\nend_header\n";
     const std::string vertices = le_point(0, 0, 0) + le_point(1, 0, 0) + le_point(0, 1, 0);
     const std::string face0 = le<std::uint8_t>(3) + le(0) + le(1) + le(2);
-    add("BinaryFaceIndexNegative",
-        header + vertices + face0 + le<std::uint8_t>(3) + le(0) + le(-1) + le(2),
-        {"bad.ply: " + offset(header, 36 + 13) +
-         ": face 1 refers to vertex -1, but there are only 3 vertices"});
+    add("BinaryFaceIndexNegative", header + vertices + face0 + le<std::uint8_t>(3) + le(0) + le(-1) + le(2),
+        {"bad.ply: " + offset(header, 36 + 13) + ": face 1 refers to vertex -1, but there are only 3 vertices"});
     add("BinaryFacesTruncated", header + vertices + face0 + le<std::uint8_t>(3) + le(0) + le(1),
         {"bad.ply: " + offset(header, 36 + 13) + ": body truncated: expected 2 faces, read 1"});
   }
@@ -233,8 +219,7 @@ std::vector<MalformedCase> malformed_cases() {
         "property float y\nproperty float z\nelement face 1\n"
         "property list uint uchar vertex_indices\nend_header\n";
     // A list claiming four billion items in a file of a few bytes: refused without looping.
-    add("BinaryHugeListLength",
-        header + le_point(0, 0, 0) + le<std::uint32_t>(0xFFFFFFFFU) + "\1\2",
+    add("BinaryHugeListLength", header + le_point(0, 0, 0) + le<std::uint32_t>(0xFFFFFFFFU) + "\1\2",
         {"bad.ply: " + offset(header, 12) + ": body truncated: expected 1 face, read 0"});
   }
   {
@@ -264,8 +249,7 @@ TEST_P(PlyMalformedFile, ThrowsModelFileErrorNamingFileWhereAndProblem) {
     EXPECT_EQ(what.rfind("bad.ply: " + e.where() + ": ", 0), 0u) << what;
     EXPECT_LT(what.size(), 300u) << what;
     for (const std::string& expected : c.expected) {
-      EXPECT_NE(what.find(expected), std::string::npos)
-          << "message: " << what << "\nexpected to contain: " << expected;
+      EXPECT_NE(what.find(expected), std::string::npos) << "message: " << what << "\nexpected to contain: " << expected;
     }
   }
 }

@@ -76,8 +76,7 @@ double displace(PointModel& m, double drift, std::uint32_t seed) {
   return moved;
 }
 
-void expect_nearest_matches_oracle(const PointIndex& index, const PointModel& m, const Vec3& q,
-                                   double drift) {
+void expect_nearest_matches_oracle(const PointIndex& index, const PointModel& m, const Vec3& q, double drift) {
   const PointIndex::Nearest got = index.nearest(m, q, drift);
   const double want = oracle_nearest_distance(m, q);
   ASSERT_LT(got.index, m.size());

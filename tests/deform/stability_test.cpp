@@ -245,14 +245,17 @@ TEST(Stability, EffectiveForcesAreContinuousAndTurnWithTheModel) {
     const Kernel k{KernelKind::kKelvin, {3e7, 0.45}, 0.0};
     auto solve = [&](double fx, const Mat3& rot) {
       auto turn = [&](const Vec3& v) {
-        return Vec3{rot(0, 0) * v.x + rot(0, 1) * v.y + rot(0, 2) * v.z, rot(1, 0) * v.x + rot(1, 1) * v.y + rot(1, 2) * v.z,
+        return Vec3{rot(0, 0) * v.x + rot(0, 1) * v.y + rot(0, 2) * v.z,
+                    rot(1, 0) * v.x + rot(1, 1) * v.y + rot(1, 2) * v.z,
                     rot(2, 0) * v.x + rot(2, 1) * v.y + rot(2, 2) * v.z};
       };
-      const SourceSetup s[2] = {{turn({-0.2, 0.0, 0.1}), turn({fx, 0.0, -0.01})}, {turn({0.2, 0.0, 0.1}), turn({0.0, 0.0, -0.01})}};
+      const SourceSetup s[2] = {{turn({-0.2, 0.0, 0.1}), turn({fx, 0.0, -0.01})},
+                                {turn({0.2, 0.0, 0.1}), turn({0.0, 0.0, -0.01})}};
       std::vector<DisplacementCondition> c;
       for (double x : {-0.2, 0.2})
         for (int i = -2; i <= 2; ++i)
-          for (int j = -2; j <= 2; ++j) c.push_back({turn({x + 0.02 * i, 0.02 * j, 0.0}), turn({0.0, 0.0, -0.01}), 1.0});
+          for (int j = -2; j <= 2; ++j)
+            c.push_back({turn({x + 0.02 * i, 0.02 * j, 0.0}), turn({0.0, 0.0, -0.01}), 1.0});
       Vec3 w[2], f[2];
       (void)WeightSolver({form}).solve(k, s, c, {}, w, f);
       return std::array<Vec3, 2>{f[0], f[1]};
@@ -275,7 +278,8 @@ TEST(Stability, EffectiveForcesAreContinuousAndTurnWithTheModel) {
     const auto turned = solve(0.0, rot);
     for (int i = 0; i < 2; ++i) {
       const Vec3 e = exact[i];
-      const Vec3 expected{rot(0, 0) * e.x + rot(0, 1) * e.y + rot(0, 2) * e.z, rot(1, 0) * e.x + rot(1, 1) * e.y + rot(1, 2) * e.z,
+      const Vec3 expected{rot(0, 0) * e.x + rot(0, 1) * e.y + rot(0, 2) * e.z,
+                          rot(1, 0) * e.x + rot(1, 1) * e.y + rot(1, 2) * e.z,
                           rot(2, 0) * e.x + rot(2, 1) * e.y + rot(2, 2) * e.z};
       EXPECT_LT(norm(turned[i] - expected), 1e-6 * norm(e));
     }

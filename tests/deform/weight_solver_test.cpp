@@ -13,8 +13,7 @@ namespace {
 
 const Kernel kKelvin{KernelKind::kKelvin, {3e7, 0.45}, 0.0};
 
-Vec3 field(const Kernel& k, const std::vector<SourceSetup>& sources, const std::vector<Vec3>& f,
-           const Vec3& q) {
+Vec3 field(const Kernel& k, const std::vector<SourceSetup>& sources, const std::vector<Vec3>& f, const Vec3& q) {
   Vec3 u;
   for (std::size_t s = 0; s < sources.size(); ++s) u += displacement(k, sources[s].source, f[s], q);
   return u;

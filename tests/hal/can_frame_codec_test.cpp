@@ -78,10 +78,9 @@ TEST(CanFrameCodec, SizesAndLengths) {
   for (const Mode& m : kModes) EXPECT_EQ(can_segment_count(can_sample_message_size(m.kind), m.fd), m.segments);
   EXPECT_EQ(can_segment_count(kCanHapticMessageSize, false), kCanMaxHapticFrames);
   EXPECT_EQ(can_segment_count(kCanHapticMessageSize, true), 2u);
-  const std::uint8_t want[65] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  12, 12, 12, 12, 16, 16, 16, 16,
-                                 20, 20, 20, 20, 24, 24, 24, 24, 32, 32, 32, 32, 32, 32, 32, 32, 48,
-                                 48, 48, 48, 48, 48, 48, 48, 48, 48, 48, 48, 48, 48, 48, 48, 64, 64,
-                                 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64};
+  const std::uint8_t want[65] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  12, 12, 12, 12, 16, 16, 16, 16, 20, 20, 20, 20, 24,
+                                 24, 24, 24, 32, 32, 32, 32, 32, 32, 32, 32, 48, 48, 48, 48, 48, 48, 48, 48, 48, 48, 48,
+                                 48, 48, 48, 48, 48, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64, 64};
   for (std::size_t n = 0; n <= 64; ++n) EXPECT_EQ(can_fd_round_up(n), want[n]) << n;
 }
 
@@ -109,7 +108,9 @@ TEST(CanFrameCodec, FramesFollowTheDocumentedLayout) {
   for (const auto& f : fd) message.insert(message.end(), f.data.begin() + 1, f.data.begin() + 64);
   message.resize(245);
   const std::uint32_t crc = can_crc32({message.data(), 241});
-  EXPECT_EQ(message[241] | (message[242] << 8) | (message[243] << 16) | (static_cast<std::uint32_t>(message[244]) << 24), crc);
+  EXPECT_EQ(
+      message[241] | (message[242] << 8) | (message[243] << 16) | (static_cast<std::uint32_t>(message[244]) << 24),
+      crc);
 }
 
 TEST(CanFrameCodec, RoundTripsEveryModeAndHand) {
@@ -352,12 +353,12 @@ TEST(CanFrameCodec, SeededFuzzNeverCrashesOrDeliversGarbage) {
       sent.push_back(random_sample(rng, kind, 0, static_cast<std::uint32_t>(round)));
       auto frames = encode(sent.back(), fd);
       for (auto& f : frames) {
-        const auto action = rng() % 128;  // about 5 % of frames are damaged
-        if (action == 0) continue;                                          // lost
-        if (action == 1) f.data[rng() % 64] ^= static_cast<std::uint8_t>(rng());  // corrupted
-        if (action == 2) f.len = static_cast<std::uint8_t>(rng() % 70);    // bad length
+        const auto action = rng() % 128;                                           // about 5 % of frames are damaged
+        if (action == 0) continue;                                                 // lost
+        if (action == 1) f.data[rng() % 64] ^= static_cast<std::uint8_t>(rng());   // corrupted
+        if (action == 2) f.len = static_cast<std::uint8_t>(rng() % 70);            // bad length
         if (action == 3) f.id = kBase + static_cast<std::uint32_t>(rng() % 0x90);  // wrong id
-        if (action == 4) {                                                  // pure noise
+        if (action == 4) {                                                         // pure noise
           f.id = kBase + static_cast<std::uint32_t>(rng() % 0x90);
           f.len = static_cast<std::uint8_t>(rng() % 65);
           for (auto& b : f.data) b = static_cast<std::uint8_t>(rng());

@@ -81,9 +81,7 @@ Bytes wire_from_body(Bytes body) {
 }
 
 // The body of an encoded frame (delimiter stripped), CRC included.
-Bytes body_of(const Bytes& wire) {
-  return reference_uncobs(Bytes(wire.begin(), wire.end() - 1));
-}
+Bytes body_of(const Bytes& wire) { return reference_uncobs(Bytes(wire.begin(), wire.end() - 1)); }
 
 std::uint32_t le32(const Bytes& b, std::size_t at) {
   std::uint32_t v = 0;
@@ -171,9 +169,8 @@ std::vector<DecodedFrame> decode(const Bytes& bytes) {
 }
 
 bool same_sample(const GloveSample& a, const GloveSample& b) {
-  return a.hand == b.hand && a.kind == b.kind && a.sequence == b.sequence &&
-         a.device_time_us == b.device_time_us && a.receive_time_ns == b.receive_time_ns &&
-         std::memcmp(&a.joints, &b.joints, sizeof a.joints) == 0 &&
+  return a.hand == b.hand && a.kind == b.kind && a.sequence == b.sequence && a.device_time_us == b.device_time_us &&
+         a.receive_time_ns == b.receive_time_ns && std::memcmp(&a.joints, &b.joints, sizeof a.joints) == 0 &&
          std::memcmp(&a.angles, &b.angles, sizeof a.angles) == 0 &&
          std::memcmp(&a.wrist, &b.wrist, sizeof a.wrist) == 0;
 }
@@ -185,8 +182,7 @@ bool same_haptic(const HapticCommand& a, const HapticCommand& b) {
 
 bool same_frame(const DecodedFrame& a, const DecodedFrame& b) {
   if (a.type != b.type || a.sequence != b.sequence || a.device_time_us != b.device_time_us) return false;
-  return a.type == DecodedFrame::Type::kSample ? same_sample(a.sample, b.sample)
-                                               : same_haptic(a.haptic, b.haptic);
+  return a.type == DecodedFrame::Type::kSample ? same_sample(a.sample, b.sample) : same_haptic(a.haptic, b.haptic);
 }
 
 Bytes concat(std::initializer_list<Bytes> parts) {
@@ -355,9 +351,12 @@ TEST(FrameCodec, RoundTripsExtremeFiniteValues) {
   s.kind = SampleKind::kPositions;
   s.sequence = 0xFFFFFFFFu;
   s.device_time_us = 0xFFFFFFFFFFFFFFFFull;
-  const float extremes[] = {0.0f, -0.0f, std::numeric_limits<float>::max(),
+  const float extremes[] = {0.0f,
+                            -0.0f,
+                            std::numeric_limits<float>::max(),
                             std::numeric_limits<float>::lowest(),
-                            std::numeric_limits<float>::denorm_min(), 1.0f};
+                            std::numeric_limits<float>::denorm_min(),
+                            1.0f};
   for (std::size_t j = 0; j < kJointPoints; ++j) s.joints[j] = {extremes[j % 6], extremes[(j + 1) % 6], 0.0f};
   const auto frames = decode(encode(s));
   ASSERT_EQ(frames.size(), 1u);
@@ -508,8 +507,7 @@ TEST(FrameCodec, FlagsAreIgnoredOnReceive) {
 
 TEST(FrameCodec, ChunkingAtEverySplitPointGivesTheSameFrames) {
   std::mt19937 rng(10);
-  const Bytes stream = concat({encode(positions_sample(rng)), encode(angles_sample(rng)),
-                               encode(haptic_command(rng))});
+  const Bytes stream = concat({encode(positions_sample(rng)), encode(angles_sample(rng)), encode(haptic_command(rng))});
   const auto whole = decode(stream);
   ASSERT_EQ(whole.size(), 3u);
   for (std::size_t split = 0; split <= stream.size(); ++split) {
@@ -582,8 +580,8 @@ TEST(FrameCodec, OverLongFramesAreDroppedUpToTheNextDelimiter) {
 
 TEST(FrameCodec, EmptyFramesAreIdleFillNotErrors) {
   std::mt19937 rng(15);
-  const Scenario s = run(concat({Bytes(5, 0), encode(haptic_command(rng)), Bytes(3, 0),
-                                 encode(angles_sample(rng)), Bytes(1, 0)}));
+  const Scenario s =
+      run(concat({Bytes(5, 0), encode(haptic_command(rng)), Bytes(3, 0), encode(angles_sample(rng)), Bytes(1, 0)}));
   EXPECT_EQ(s.frames.size(), 2u);
   EXPECT_EQ(s.counters.frames, 2u);
   EXPECT_EQ(s.counters.framing_errors, 0u);
@@ -598,9 +596,9 @@ TEST(FrameCodec, CountsAScriptedStreamExactly) {
   Bytes bad_crc_wire = reference_cobs(bad_crc);
   bad_crc_wire.push_back(0);
   const Bytes garbage = {0x13, 0x37, 0xC0, 0xFF, 0xEE, 0x00};
-  const Scenario s = run(concat({encode(positions_sample(rng, 0)), encode(positions_sample(rng, 1)),
-                                 encode(angles_sample(rng, 2)), garbage, bad_crc_wire,
-                                 encode(haptic_command(rng)), encode(positions_sample(rng, 4))}));
+  const Scenario s =
+      run(concat({encode(positions_sample(rng, 0)), encode(positions_sample(rng, 1)), encode(angles_sample(rng, 2)),
+                  garbage, bad_crc_wire, encode(haptic_command(rng)), encode(positions_sample(rng, 4))}));
   EXPECT_EQ(s.counters.frames, 5u);
   EXPECT_EQ(s.counters.crc_errors, 1u);
   EXPECT_EQ(s.counters.framing_errors, 1u);
@@ -646,12 +644,9 @@ TEST(FrameCodecFuzz, RandomStreamsNeverCrashAndCountConsistently) {
           for (std::size_t k = 0; k < n; ++k) stream.push_back(static_cast<std::uint8_t>(rng()));
           break;
         }
-        case 1:
-          stream.insert(stream.end(), frame.begin(), frame.end());
-          break;
+        case 1: stream.insert(stream.end(), frame.begin(), frame.end()); break;
         case 2:
-          stream.insert(stream.end(), frame.begin(),
-                        frame.begin() + static_cast<std::ptrdiff_t>(rng() % frame.size()));
+          stream.insert(stream.end(), frame.begin(), frame.begin() + static_cast<std::ptrdiff_t>(rng() % frame.size()));
           break;
         default: {
           Bytes m = frame;

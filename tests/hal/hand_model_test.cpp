@@ -129,19 +129,23 @@ TEST(HandModel, WristPoseRotatesEveryJointAboutTheWrist) {
     const double theta = 3 * u(rng);
     // Rodrigues: R = I cos + (1 - cos) k k^T + sin [k]x.
     const double c = std::cos(theta), s = std::sin(theta);
-    const double R[3][3] = {
-        {c + axis[0] * axis[0] * (1 - c), axis[0] * axis[1] * (1 - c) - axis[2] * s, axis[0] * axis[2] * (1 - c) + axis[1] * s},
-        {axis[1] * axis[0] * (1 - c) + axis[2] * s, c + axis[1] * axis[1] * (1 - c), axis[1] * axis[2] * (1 - c) - axis[0] * s},
-        {axis[2] * axis[0] * (1 - c) - axis[1] * s, axis[2] * axis[1] * (1 - c) + axis[0] * s, c + axis[2] * axis[2] * (1 - c)}};
+    const double rotation[3][3] = {{c + axis[0] * axis[0] * (1 - c), axis[0] * axis[1] * (1 - c) - axis[2] * s,
+                                    axis[0] * axis[2] * (1 - c) + axis[1] * s},
+                                   {axis[1] * axis[0] * (1 - c) + axis[2] * s, c + axis[1] * axis[1] * (1 - c),
+                                    axis[1] * axis[2] * (1 - c) - axis[0] * s},
+                                   {axis[2] * axis[0] * (1 - c) - axis[1] * s,
+                                    axis[2] * axis[1] * (1 - c) + axis[0] * s, c + axis[2] * axis[2] * (1 - c)}};
     WristPose wrist;
     wrist.position = {static_cast<float>(u(rng)), static_cast<float>(u(rng)), static_cast<float>(u(rng))};
     wrist.orientation = {static_cast<float>(std::cos(theta / 2)), static_cast<float>(axis[0] * std::sin(theta / 2)),
-                         static_cast<float>(axis[1] * std::sin(theta / 2)), static_cast<float>(axis[2] * std::sin(theta / 2))};
+                         static_cast<float>(axis[1] * std::sin(theta / 2)),
+                         static_cast<float>(axis[2] * std::sin(theta / 2))};
     const auto moved = model.joints_from_angles(angles, wrist);
     for (std::size_t j = 0; j < kJointPoints; ++j) {
       Vec want;
       for (int r = 0; r < 3; ++r)
-        want[r] = R[r][0] * local[j][0] + R[r][1] * local[j][1] + R[r][2] * local[j][2] + wrist.position[r];
+        want[r] = rotation[r][0] * local[j][0] + rotation[r][1] * local[j][1] + rotation[r][2] * local[j][2] +
+                  wrist.position[r];
       expect_near(moved[j], want, "rotated joint");
     }
   }

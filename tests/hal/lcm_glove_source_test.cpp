@@ -65,7 +65,8 @@ void wait_handled(const LcmGloveSource& source, std::uint64_t count) {
 std::vector<GloveSample> drain(LcmGloveSource& source) {
   std::vector<GloveSample> got;
   std::array<GloveSample, 8> buffer;
-  for (std::size_t n; (n = source.poll(buffer)) > 0;) got.insert(got.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(n));
+  for (std::size_t n; (n = source.poll(buffer)) > 0;)
+    got.insert(got.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(n));
   return got;
 }
 
@@ -119,7 +120,7 @@ TEST(LcmGloveSource, CorruptMessagesAreFramingErrorsAndTheNextGoodSampleArrives)
 
   const auto good = encode(make_sample(0, 1));
   publish(lcm, "SCULPT_GLOVE", std::vector<std::uint8_t>{0xde, 0xad, 0xbe, 0xef, 0x00, 0x01});  // garbage
-  publish(lcm, "SCULPT_GLOVE", std::vector<std::uint8_t>(good.begin(), good.begin() + 100));  // truncated
+  publish(lcm, "SCULPT_GLOVE", std::vector<std::uint8_t>(good.begin(), good.begin() + 100));    // truncated
   auto trailing = good;
   trailing.push_back(0);
   publish(lcm, "SCULPT_GLOVE", trailing);  // a glove_sample_t and then some: not one
@@ -269,8 +270,7 @@ TEST(LcmGloveSource, UdpmLoopbackDeliversWhatWasSent) {
     got.insert(got.end(), more.begin(), more.end());
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
-  while (std::chrono::steady_clock::now() < deadline &&
-         (got.empty() || got.back().sequence + 1 < kSent)) {
+  while (std::chrono::steady_clock::now() < deadline && (got.empty() || got.back().sequence + 1 < kSent)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     auto more = drain(source);
     got.insert(got.end(), more.begin(), more.end());

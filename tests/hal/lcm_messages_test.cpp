@@ -24,7 +24,8 @@ hal::GloveSample make_sample(hal::SampleKind kind) {
   s.sequence = 0xFFFF'FFF0u;  // above INT32_MAX: must survive the signed wire field
   s.device_time_us = 123'456'789'012ull;
   for (std::size_t j = 0; j < hal::kJointPoints; ++j) {
-    for (std::size_t c = 0; c < 3; ++c) s.joints[j][c] = 0.25f * static_cast<float>(j) - 0.125f * static_cast<float>(c) + 1e-7f;
+    for (std::size_t c = 0; c < 3; ++c)
+      s.joints[j][c] = 0.25f * static_cast<float>(j) - 0.125f * static_cast<float>(c) + 1e-7f;
   }
   for (std::size_t f = 0; f < hal::kFingers; ++f) {
     for (std::size_t a = 0; a < 4; ++a) s.angles[f][a] = -0.3f + 0.11f * static_cast<float>(f * 4 + a);
@@ -98,7 +99,10 @@ TEST(LcmGloveMessages, GloveSampleRejectsEachInvalidField) {
     }
   }
   // Left hand and zero device time are valid.
-  EXPECT_FALSE(rejects([](auto& m) { m.hand = 0; m.device_time_us = 0; }));
+  EXPECT_FALSE(rejects([](auto& m) {
+    m.hand = 0;
+    m.device_time_us = 0;
+  }));
 }
 
 TEST(LcmGloveMessages, HapticCommandRoundTripsThroughTheWire) {
@@ -141,7 +145,10 @@ TEST(LcmGloveMessages, HapticCommandRejectsEachInvalidField) {
   EXPECT_TRUE(rejects([](auto& m) { m.active_mask = -1; }));
   EXPECT_TRUE(rejects([](auto& m) { m.force[4][2] = kNaN; }));
   EXPECT_TRUE(rejects([](auto& m) { m.force[0][0] = kInf; }));
-  EXPECT_FALSE(rejects([](auto& m) { m.active_mask = 0x1F; m.hand = 1; }));
+  EXPECT_FALSE(rejects([](auto& m) {
+    m.active_mask = 0x1F;
+    m.hand = 1;
+  }));
 }
 
 // What a receiver meets on the wire: every truncation and seeded corruptions of a valid

@@ -93,7 +93,8 @@ GloveSample sample(std::uint32_t i) {
   s.device_time_us = 12'500ull * i;
   if (i % 3 == 0) {
     s.kind = SampleKind::kAngles;
-    for (std::size_t f = 0; f < kFingers; ++f) s.angles[f] = {0.1f * static_cast<float>(f), 0.2f, 0.3f, static_cast<float>(i)};
+    for (std::size_t f = 0; f < kFingers; ++f)
+      s.angles[f] = {0.1f * static_cast<float>(f), 0.2f, 0.3f, static_cast<float>(i)};
     s.wrist.position = {1.0f, 2.0f, static_cast<float>(i)};
     s.wrist.orientation = {0.0f, 1.0f, 0.0f, 0.0f};
   } else {
@@ -108,7 +109,8 @@ HapticCommand command(std::uint32_t tick) {
   c.hand = 1;
   c.tick = tick;
   c.active_mask = static_cast<std::uint8_t>(tick & 0x1F);
-  for (std::size_t f = 0; f < kFingers; ++f) c.force[f] = {0.5f * static_cast<float>(f), -1.0f, static_cast<float>(tick)};
+  for (std::size_t f = 0; f < kFingers; ++f)
+    c.force[f] = {0.5f * static_cast<float>(f), -1.0f, static_cast<float>(tick)};
   return c;
 }
 

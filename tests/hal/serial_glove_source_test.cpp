@@ -253,13 +253,13 @@ TEST(SerialGloveSource, CountsEachFaultByKindWhileSamplesKeepFlowing) {
   haptic_frame.resize(encode_haptic_frame(haptic, 0, 0, haptic_frame));
 
   pty.write(frame(sample(0, 0)));
-  pty.write(garbage);                         // framing error 1
+  pty.write(garbage);  // framing error 1
   pty.write(frame(sample(0, 1)));
-  pty.write(truncated);                       // framing error 2
+  pty.write(truncated);  // framing error 2
   pty.write(frame(sample(0, 2)));
-  pty.write(bad_crc_frame(sample(0, 3)));     // crc error 1 (and sequence 3 is lost)
+  pty.write(bad_crc_frame(sample(0, 3)));  // crc error 1 (and sequence 3 is lost)
   pty.write(frame(sample(0, 4)));
-  pty.write(haptic_frame);                    // not for us: ignored, counted nowhere
+  pty.write(haptic_frame);  // not for us: ignored, counted nowhere
   pty.write(frame(sample(0, 5)));
 
   const std::vector<GloveSample> got = receive(source, 5);
@@ -338,9 +338,8 @@ TEST(SerialGloveSource, ReconnectsToTheSamePathAfterTheDeviceDisappears) {
 
   // Unplug: the pty goes away, its /dev/pts entry with it, and the link dangles.
   first->close();
-  ASSERT_TRUE(wait_for([&] {
-    return source.state() == SourceState::kDisconnected && source.counters().disconnects == 1;
-  }));
+  ASSERT_TRUE(
+      wait_for([&] { return source.state() == SourceState::kDisconnected && source.counters().disconnects == 1; }));
 
   // Replug: a new device node (perhaps another number) behind the same link.
   Pty second;

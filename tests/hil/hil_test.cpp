@@ -105,9 +105,9 @@ TEST(HardwareInTheLoop, SerialThroughAFaultyLineKeepsTheStationRunning) {
   fs::create_symlink(station_side.slave_path, link);
 
   const std::string json = (dir / "run.json").string(), out = (dir / "out.ply").string();
-  Process station({kSculpt, "run", kScene, "--serial", link.string(), "--duration", "6", "--json", json, "--out",
-                   out, "--quiet"},
-                  (dir / "run.log").string());
+  Process station(
+      {kSculpt, "run", kScene, "--serial", link.string(), "--duration", "6", "--json", json, "--out", out, "--quiet"},
+      (dir / "run.log").string());
   ASSERT_TRUE(station.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   Process glove({kSculpt, "glove-sim", kScene, "--serial", glove_side.slave_path}, (dir / "glove.log").string());
@@ -191,7 +191,8 @@ TEST(HardwareInTheLoop, SerialThroughAFaultyLineKeepsTheStationRunning) {
   const deform::PointModel model = deform::read_model(out);
   double top = -1.0;
   for (std::size_t i = 0; i < model.size(); ++i) {
-    if (std::abs(model.x[i]) < 0.05f && std::abs(model.y[i]) < 0.05f && model.z[i] > 0.0f) top = std::max(top, double(model.z[i]));
+    if (std::abs(model.x[i]) < 0.05f && std::abs(model.y[i]) < 0.05f && model.z[i] > 0.0f)
+      top = std::max(top, double(model.z[i]));
   }
   EXPECT_LT(top, 0.99);
   fs::remove_all(dir);

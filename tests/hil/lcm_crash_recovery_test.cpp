@@ -116,8 +116,9 @@ TEST_F(CrashRecovery, AReRunKilledAtRandomMomentsRecoversTheCompletedRunUpToItsL
   // The glove log the deterministic re-runs are fed from.
   ASSERT_EQ(sculpt({"run", scene.string(), "--duration", "3.2", "--quiet"}, dir_ / "record.txt"), 0)
       << slurp(dir_ / "record.txt");
-  const std::vector<std::string> rerun = {"replay", (dir_ / "glove.lcmlog").string(), "--model", model.string(),
-                                          "--scene", scene.string(), "--mode", "rerun"};
+  const std::vector<std::string> rerun = {
+      "replay", (dir_ / "glove.lcmlog").string(), "--model", model.string(), "--scene", scene.string(), "--mode",
+      "rerun"};
   const fs::path complete = dir_ / "complete.lcmlog";
   std::vector<std::string> args = rerun;
   args.insert(args.end(), {"--record", complete.string(), "--json", (dir_ / "complete.json").string()});
@@ -161,12 +162,11 @@ TEST_F(CrashRecovery, AReRunKilledAtRandomMomentsRecoversTheCompletedRunUpToItsL
                      dir_ / "until.txt"),
               0)
         << slurp(dir_ / "until.txt");
-    EXPECT_TRUE(slurp(recovered) == slurp(until))
-        << "kill " << k << " at " << size_of(cut) << " of " << full_size << " bytes, last whole frame "
-        << truth.last_frame;
+    EXPECT_TRUE(slurp(recovered) == slurp(until)) << "kill " << k << " at " << size_of(cut) << " of " << full_size
+                                                  << " bytes, last whole frame " << truth.last_frame;
     ++last_frames[truth.last_frame];
-    std::printf("[ kill ] %d: log cut at %ju of %ju bytes, last whole frame %lld, %zu events\n", k,
-                size_of(cut), full_size, static_cast<long long>(truth.last_frame), truth.events);
+    std::printf("[ kill ] %d: log cut at %ju of %ju bytes, last whole frame %lld, %zu events\n", k, size_of(cut),
+                full_size, static_cast<long long>(truth.last_frame), truth.events);
   }
   EXPECT_GE(killed, 3) << "the re-runs finished before the kills: the moments tested nothing";
   EXPECT_GE(last_frames.size(), 2u) << "every kill left the same frames";
@@ -174,8 +174,9 @@ TEST_F(CrashRecovery, AReRunKilledAtRandomMomentsRecoversTheCompletedRunUpToItsL
 
 TEST_F(CrashRecovery, ARealTimeRunKilledRecoversAFiniteModelHoldingEveryCompleteCollision) {
   std::string text = slurp(fs::path(SCULPT_SOURCE_DIR) / "scenes" / "sphere-squeeze.toml");
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"../data/", std::string(SCULPT_SOURCE_DIR) + "/data/"},
-                                 {"../out/", dir_.string() + "/"}}) {
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"../data/", std::string(SCULPT_SOURCE_DIR) + "/data/"},
+        {"../out/", dir_.string() + "/"}}) {
     for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
       text.replace(at, from.size(), to);
     }
@@ -185,7 +186,8 @@ TEST_F(CrashRecovery, ARealTimeRunKilledRecoversAFiniteModelHoldingEveryComplete
   std::mt19937 random(9);
   // The fingers touch the sphere from about 0.8 s on; the kill lands while they press or hold.
   const auto delay = std::chrono::milliseconds(std::uniform_int_distribution<int>(1300, 2600)(random));
-  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "10", "--quiet"}, (dir_ / "run.txt").string());
+  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "10", "--quiet"},
+                         (dir_ / "run.txt").string());
   ASSERT_TRUE(run.started());
   std::this_thread::sleep_for(delay);
   run.signal(SIGKILL);

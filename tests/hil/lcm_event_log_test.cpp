@@ -135,9 +135,9 @@ TEST_F(EventLogHil, StockLogplayerDrivesTheStationThroughItsLcmBackend) {
   fs::copy_file(dir_ / "sphere-press.lcmlog", dir_ / "recorded.lcmlog");
 
   const std::string url = unique_url(1);
-  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--lcm", url, "--duration", "7", "--quiet",
-                           "--json", (dir_ / "played.json").string(), "--out", (dir_ / "played.ply").string()},
-                          dir_ / "run.txt");
+  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--lcm", url, "--duration", "7", "--quiet", "--json",
+                          (dir_ / "played.json").string(), "--out", (dir_ / "played.ply").string()},
+                         dir_ / "run.txt");
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   test::ChildProcess player({"lcm-logplayer", "--lcm-url=" + url, (dir_ / "recorded.lcmlog").string()},
                             dir_ / "player.txt");
@@ -160,11 +160,11 @@ TEST_F(EventLogHil, StockLogplayerDrivesTheStationThroughItsLcmBackend) {
 // (strictly increasing), and the last command releases the finger.
 TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) {
   const std::string url = unique_url(2);
-  const fs::path scene = scene_in(dir_, "sphere-press",
-                                  "[haptic]\nsink = \"lcm\"\nmax_force = 4.0\n[haptic.lcm]\nurl = \"" + url + "\"");
+  const fs::path scene =
+      scene_in(dir_, "sphere-press", "[haptic]\nsink = \"lcm\"\nmax_force = 4.0\n[haptic.lcm]\nurl = \"" + url + "\"");
   const fs::path live = dir_ / "haptic.lcmlog";
-  test::ChildProcess logger({"lcm-logger", "--lcm-url=" + url, "-f", "-q", "--channel=" + std::string(logging::kHapticChannel),
-                             live.string()},
+  test::ChildProcess logger({"lcm-logger", "--lcm-url=" + url, "-f", "-q",
+                             "--channel=" + std::string(logging::kHapticChannel), live.string()},
                             dir_ / "logger.txt");
   ASSERT_TRUE(logger.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(700));  // a late subscriber misses messages
@@ -229,12 +229,14 @@ TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) 
 // are loop ticks (each one a tick that has its own tick_stats_t); in the force form the weights
 // are the effective force, in shear-modulus units x model units squared.
 TEST_F(EventLogHil, RecordedFieldsMeanWhatTheDocsSay) {
-  const fs::path scene = scene_in(dir_, "sphere-press", "[haptic]\nsink = \"lcm\"\n[haptic.lcm]\nurl = \"" + unique_url(3) + "\"");
+  const fs::path scene =
+      scene_in(dir_, "sphere-press", "[haptic]\nsink = \"lcm\"\n[haptic.lcm]\nurl = \"" + unique_url(3) + "\"");
   std::string text = slurp(scene);
   replace_all(text, "form = \"scale\"", "form = \"force\"");
   std::ofstream(scene) << text;
   const auto wall_us = [] {
-    return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+    return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
   };
   const std::int64_t start = wall_us();
   test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "3.5", "--quiet"}, dir_ / "run.txt");
@@ -297,8 +299,8 @@ TEST_F(EventLogHil, RecordedFieldsMeanWhatTheDocsSay) {
   ASSERT_FALSE(ticks.empty());
   for (std::int64_t t : joined) ASSERT_TRUE(ticks.count(t)) << "tick " << t << " is not a loop tick";
   EXPECT_GT(budgets_below_period, ticks.size() / 2) << "the time left is below the period on most ticks";
-  std::printf("[ log ] %zu events, %zu ticks, %zu collisions, %zu joined on tick\n", counted, ticks.size(),
-              collisions, joined.size());
+  std::printf("[ log ] %zu events, %zu ticks, %zu collisions, %zu joined on tick\n", counted, ticks.size(), collisions,
+              joined.size());
 }
 
 }  // namespace

@@ -31,8 +31,7 @@ namespace sculpt::logging {
 namespace {
 
 std::string temp_path(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("sculpt_durable_test_" + std::to_string(::getpid()));
+  const auto dir = std::filesystem::temp_directory_path() / ("sculpt_durable_test_" + std::to_string(::getpid()));
   return (dir / name).string();
 }
 

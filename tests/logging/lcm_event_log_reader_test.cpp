@@ -30,8 +30,7 @@ using Bytes = std::vector<std::uint8_t>;
 using Result = EventLogReader::Result;
 
 std::string temp_path(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("sculpt_reader_test_" + std::to_string(::getpid()));
+  const auto dir = std::filesystem::temp_directory_path() / ("sculpt_reader_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return (dir / name).string();
 }
@@ -178,8 +177,8 @@ TEST(EventLogReader, TruncatedInsideAHeader) {
   LogEvent event;
   for (int i = 0; i < 4; ++i) ASSERT_EQ(reader.next(event), Result::kEvent);
   ASSERT_EQ(reader.next(event), Result::kCorrupt);
-  EXPECT_EQ(reader.error(), path + ": " + offset_text(written.offsets[4]) +
-                                "truncated event header: needs 28 bytes, 10 left");
+  EXPECT_EQ(reader.error(),
+            path + ": " + offset_text(written.offsets[4]) + "truncated event header: needs 28 bytes, 10 left");
   EXPECT_EQ(reader.next(event), Result::kEnd);
   EXPECT_EQ(reader.skipped_bytes(), 10u);
   EXPECT_EQ(reader.corrupt_events(), 1u);
@@ -196,8 +195,7 @@ TEST(EventLogReader, TruncatedInsideThePayload) {
   ASSERT_EQ(reader.next(event), Result::kCorrupt);
   const std::uint64_t full = written.size - written.offsets[4];
   EXPECT_EQ(reader.error(), path + ": " + offset_text(written.offsets[4]) + "truncated event: needs " +
-                                std::to_string(full) + " bytes, " +
-                                std::to_string(cut - written.offsets[4]) + " left");
+                                std::to_string(full) + " bytes, " + std::to_string(cut - written.offsets[4]) + " left");
   EXPECT_EQ(reader.next(event), Result::kEnd);
   EXPECT_EQ(reader.skipped_bytes(), cut - written.offsets[4]);
 }
@@ -213,8 +211,8 @@ TEST(EventLogReader, BadSyncWordIsReportedAndSkipped) {
   ASSERT_EQ(reader.next(event), Result::kEvent);
   ASSERT_EQ(reader.next(event), Result::kEvent);
   ASSERT_EQ(reader.next(event), Result::kCorrupt);
-  EXPECT_EQ(reader.error(), path + ": " + offset_text(written.offsets[2]) +
-                                "bad sync word 0x12A1DA01 (expected 0xEDA1DA01)");
+  EXPECT_EQ(reader.error(),
+            path + ": " + offset_text(written.offsets[2]) + "bad sync word 0x12A1DA01 (expected 0xEDA1DA01)");
   ASSERT_EQ(reader.next(event), Result::kEvent) << reader.error();
   EXPECT_EQ(event.offset, written.offsets[3]);
   EXPECT_EQ(event.number, 3);
@@ -275,8 +273,8 @@ TEST(EventLogReader, NegativeAndHugeLengthsAreRejectedWithoutAllocating) {
     std::string expected = c.message;
     if (expected.empty()) {
       expected = "truncated event: needs " +
-                 std::to_string(kLogHeaderSize + std::string(kTickChannel).size() + 0x7FFFFFF0u) +
-                 " bytes, " + std::to_string(written.size - written.offsets[1]) + " left";
+                 std::to_string(kLogHeaderSize + std::string(kTickChannel).size() + 0x7FFFFFF0u) + " bytes, " +
+                 std::to_string(written.size - written.offsets[1]) + " left";
     }
     EXPECT_EQ(reader.error(), path + ": " + offset_text(written.offsets[1]) + expected);
     ASSERT_EQ(reader.next(event), Result::kEvent) << reader.error();
@@ -305,7 +303,8 @@ TEST(EventLogReader, GarbagePayloadOnTheCollisionChannelNamesTheOffset) {
 
 TEST(EventLogReader, WrongTypeOnTheCollisionChannelIsAFingerprintError) {
   const std::string path = temp_path("wrong_type.lcmlog");
-  const Written written = write_log(path, {{kCollisionChannel, collision_bytes(0)}, {kCollisionChannel, tick_bytes(1)}});
+  const Written written =
+      write_log(path, {{kCollisionChannel, collision_bytes(0)}, {kCollisionChannel, tick_bytes(1)}});
   EventLogReader reader(path);
   LogEvent event;
   ASSERT_EQ(reader.next(event), Result::kEvent);
@@ -339,8 +338,7 @@ TEST(EventLogReader, ShortAndOverlongPayloadsAreDecodeErrors) {
   EXPECT_NE(error.find("byte offset 0: payload of 20 bytes does not decode"), std::string::npos) << error;
   ASSERT_EQ(reader.next(event), Result::kEvent);
   EXPECT_FALSE(decode(event, message, error));
-  EXPECT_NE(error.find("byte offset " + std::to_string(written.offsets[1]) + ": 2 trailing bytes"),
-            std::string::npos)
+  EXPECT_NE(error.find("byte offset " + std::to_string(written.offsets[1]) + ": 2 trailing bytes"), std::string::npos)
       << error;
   ASSERT_EQ(reader.next(event), Result::kEvent);
   EXPECT_FALSE(decode(event, message, error));
@@ -353,8 +351,7 @@ TEST(EventLogReader, RandomBitFlipsNeverBreakTheReader) {
   const std::string path = temp_path("flips.lcmlog");
   std::vector<std::pair<std::string, Bytes>> events;
   for (int i = 0; i < 60; ++i) {
-    events.emplace_back(i % 3 == 0 ? kCollisionChannel : kTickChannel,
-                        i % 3 == 0 ? collision_bytes(i) : tick_bytes(i));
+    events.emplace_back(i % 3 == 0 ? kCollisionChannel : kTickChannel, i % 3 == 0 ? collision_bytes(i) : tick_bytes(i));
   }
   const Written written = write_log(path, events);
   const Bytes intact = load(path);

@@ -115,8 +115,7 @@ TEST(LcmPublisher, FullQueueIsACountedDropAndStopPublishesTheRest) {
   capture.wait_for(lcm, 4);
   ASSERT_EQ(capture.total, 4u);
   for (std::size_t i = 0; i < 4; ++i) {
-    EXPECT_EQ(decode<sculpt_lcm::tick_stats_t>(capture.by_channel[kTickChannel][i]).tick,
-              static_cast<std::int64_t>(i));
+    EXPECT_EQ(decode<sculpt_lcm::tick_stats_t>(capture.by_channel[kTickChannel][i]).tick, static_cast<std::int64_t>(i));
   }
 }
 

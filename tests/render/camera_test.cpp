@@ -35,8 +35,8 @@ TEST(Camera, AzimuthAndElevationFollowTheUpAxis) {
 // A point through the view and projection matrices and the perspective divide must land
 // where the pinhole model puts it.
 TEST(Camera, MatricesAgreeWithThePinholeModel) {
-  const render::Camera camera = render::fit_camera({1.0, -2.0, 0.5}, 2.0, render::look_direction(render::UpAxis::kZ, 35, -20),
-                                                   render::UpAxis::kZ, 300, 200);
+  const render::Camera camera = render::fit_camera(
+      {1.0, -2.0, 0.5}, 2.0, render::look_direction(render::UpAxis::kZ, 35, -20), render::UpAxis::kZ, 300, 200);
   const std::array<double, 16> view = camera.view_matrix(), projection = camera.projection_matrix();
   auto times = [](const std::array<double, 16>& m, const std::array<double, 4>& v) {
     std::array<double, 4> out{};

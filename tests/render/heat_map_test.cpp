@@ -36,9 +36,12 @@ double hue(const std::uint8_t* p) {
   const double hi = std::max({r, g, b}), lo = std::min({r, g, b});
   if (hi - lo < 1e-9) return -1.0;
   double h = 0.0;
-  if (hi == r) h = std::fmod((g - b) / (hi - lo), 6.0);
-  else if (hi == g) h = (b - r) / (hi - lo) + 2.0;
-  else h = (r - g) / (hi - lo) + 4.0;
+  if (hi == r)
+    h = std::fmod((g - b) / (hi - lo), 6.0);
+  else if (hi == g)
+    h = (b - r) / (hi - lo) + 2.0;
+  else
+    h = (r - g) / (hi - lo) + 4.0;
   return h < 0 ? h * 60.0 + 360.0 : h * 60.0;
 }
 
@@ -68,7 +71,8 @@ TEST(HeatMap, HottestPixelsSitAtTheDentsContact) {
   // The camera the picture says it used; where the contact lands is the test's own projection.
   ASSERT_EQ(info.cameras.size(), 1u);
   const render::Camera& camera = info.cameras[0];
-  EXPECT_NEAR(deform::dot(deform::normalized(camera.target - camera.eye), deform::normalized(*request.look)), 1.0, 1e-9);
+  EXPECT_NEAR(deform::dot(deform::normalized(camera.target - camera.eye), deform::normalized(*request.look)), 1.0,
+              1e-9);
   const PixelPoint expected = project(camera, (1.0 - kDepth) * contact);
   double sum_x = 0.0, sum_y = 0.0;
   int hot_after = 0, hot_before = 0;

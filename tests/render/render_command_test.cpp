@@ -24,9 +24,8 @@ struct CommandResult {
 class RenderCommand : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("sculpt_render_cli_" + std::to_string(getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    folder_ = fs::temp_directory_path() / ("sculpt_render_cli_" + std::to_string(getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(folder_);
     fs::create_directories(folder_);
     sphere_ = path("sphere.ply");
@@ -69,7 +68,8 @@ TEST_F(RenderCommand, WritesAPictureOfTheModel) {
   ASSERT_EQ(image.height, 80);
   const std::uint8_t* corner = image.at(0, 0);
   const std::uint8_t* centre = image.at(48, 40);
-  EXPECT_NE(std::vector<int>(corner, corner + 3), std::vector<int>(centre, centre + 3)) << "the sphere is in the middle";
+  EXPECT_NE(std::vector<int>(corner, corner + 3), std::vector<int>(centre, centre + 3))
+      << "the sphere is in the middle";
 }
 
 TEST_F(RenderCommand, ComparesAndMakesRowsOfViews) {

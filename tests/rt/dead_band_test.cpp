@@ -142,8 +142,8 @@ TEST(DeadBand, AgreesWithAHypotOracleOnARandomWalk) {
 
 TEST(DeadBand, RejectsABadDeltaS) {
   EXPECT_THROW(DeadBand(-0.1), std::invalid_argument);
-  EXPECT_THROW(DeadBand(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
-  EXPECT_THROW(DeadBand(std::numeric_limits<double>::infinity()), std::invalid_argument);
+  EXPECT_THROW(DeadBand{std::numeric_limits<double>::quiet_NaN()}, std::invalid_argument);
+  EXPECT_THROW(DeadBand{std::numeric_limits<double>::infinity()}, std::invalid_argument);
 }
 
 }  // namespace

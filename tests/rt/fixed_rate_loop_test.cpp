@@ -128,8 +128,7 @@ TEST(FixedRateLoop, ASlowTickIsOneOverrunWhosePeriodsAreSkippedOnPhase) {
                   static_cast<long long>((t.deadline[4] - t.deadline[3]) / kMs));
     }
   }
-  EXPECT_TRUE(clean)
-      << "5 attempts, each with an overrun besides tick 3's: the machine is overloaded";
+  EXPECT_TRUE(clean) << "5 attempts, each with an overrun besides tick 3's: the machine is overloaded";
 }
 
 TEST(FixedRateLoop, FiveSecondsAtOneKilohertz) {  // the issue asks for the rate over 5 s
@@ -159,17 +158,16 @@ TEST(FixedRateLoop, FiveSecondsAtOneKilohertz) {  // the issue asks for the rate
       "  wake-up lateness: median %.1f us, p99 %.1f us, max %.1f us, mean %.1f us\n"
       "  tick time:        median %.2f us, p99 %.2f us, max %.2f us\n",
       rate, static_cast<unsigned long long>(s.ticks), static_cast<unsigned long long>(s.overruns),
-      static_cast<unsigned long long>(s.missed_periods), s.wake_jitter.median() / 1e3,
-      s.wake_jitter.p99() / 1e3, s.wake_jitter.max() / 1e3, s.wake_jitter.mean() / 1e3,
-      s.tick_time.median() / 1e3, s.tick_time.p99() / 1e3, s.tick_time.max() / 1e3);
+      static_cast<unsigned long long>(s.missed_periods), s.wake_jitter.median() / 1e3, s.wake_jitter.p99() / 1e3,
+      s.wake_jitter.max() / 1e3, s.wake_jitter.mean() / 1e3, s.tick_time.median() / 1e3, s.tick_time.p99() / 1e3,
+      s.tick_time.max() / 1e3);
   RecordProperty("achieved_rate_hz", std::to_string(rate));
   EXPECT_EQ(calls, s.ticks);
   EXPECT_GT(rate, 500.0) << "gross failure only: the machine is shared";
   EXPECT_LT(rate, 1000.0 * 1.01) << "the loop never ticks faster than its rate";
   // Every tick and every skipped period used up one deadline, and every deadline used up had
   // passed before the loop ended: an exact bound, whatever the load.
-  const auto elapsed_periods =
-      static_cast<std::uint64_t>((s.ended_ns - s.started_ns) / loop.period_ns());
+  const auto elapsed_periods = static_cast<std::uint64_t>((s.ended_ns - s.started_ns) / loop.period_ns());
   EXPECT_LE(s.ticks + s.missed_periods, elapsed_periods);
   EXPECT_EQ(s.wake_jitter.count(), s.ticks);
   EXPECT_GE(s.wake_jitter.min(), 0) << "clock_nanosleep(TIMER_ABSTIME) never wakes early";
@@ -214,8 +212,7 @@ TEST(FixedRateLoop, StopsWithinOnePeriodOfTheFlag) {
         stop);
     stopper.join();
     const std::int64_t stopped_after = loop.stats().ended_ns - set_at;
-    std::printf("stop flag to return: %.2f ms (period %.0f ms)\n", stopped_after / 1e6,
-                period / 1e6);
+    std::printf("stop flag to return: %.2f ms (period %.0f ms)\n", stopped_after / 1e6, period / 1e6);
     // Gross bound: one period plus generous scheduling slack.
     EXPECT_LT(stopped_after, period + 50 * kMs);
     // At most one tick can start after the flag was set: one that had passed its check just
@@ -233,8 +230,8 @@ TEST(FixedRateLoop, TheLoopAndTickPathAllocateNothingAfterWarmUp) {
   FixedRateLoop loop(2000.0);
   OneEuroFilter3 filter({1.0, 0.1, 1.0}, 2000.0);
   DeadBand band(1e-3);
-  const SimilarityTransform to_model = SimilarityTransform::from_scale_rotation_translation(
-      2.0, AxisAngle{{0, 1, 0}, 0.3}, {0.1, 0.2, 0.3});
+  const SimilarityTransform to_model =
+      SimilarityTransform::from_scale_rotation_translation(2.0, AxisAngle{{0, 1, 0}, 0.3}, {0.1, 0.2, 0.3});
   Trace trace;
   std::uint64_t accepted = 0;
   std::uint64_t stop_after = 10;
@@ -303,8 +300,7 @@ TEST(RealtimeSetup, RefusalsAreWarningsNotExceptions) {
   });
   u.join();
   ASSERT_EQ(missing_cpu.size(), 1u);
-  EXPECT_NE(missing_cpu[0].find("CPU " + std::to_string(CPU_SETSIZE - 1)), std::string::npos)
-      << missing_cpu[0];
+  EXPECT_NE(missing_cpu[0].find("CPU " + std::to_string(CPU_SETSIZE - 1)), std::string::npos) << missing_cpu[0];
 }
 
 TEST(RealtimeSetup, LockingMemoryWarnsOrSucceedsInAChildProcess) {
@@ -329,8 +325,7 @@ TEST(RealtimeSetup, LockingMemoryWarnsOrSucceedsInAChildProcess) {
   ASSERT_EQ(waitpid(pid, &status, 0), pid);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_LE(WEXITSTATUS(status), 1) << "apply_realtime threw";
-  std::printf("mlockall in a child: %s\n",
-              WEXITSTATUS(status) == 0 ? "granted" : "refused (warning)");
+  std::printf("mlockall in a child: %s\n", WEXITSTATUS(status) == 0 ? "granted" : "refused (warning)");
 #endif
 }
 

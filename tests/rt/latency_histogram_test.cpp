@@ -24,8 +24,7 @@ std::int64_t oracle_quantile(const std::vector<std::int64_t>& sorted, double q) 
   return sorted[rank - 1];
 }
 
-void expect_quantiles_within_a_bucket(const LatencyHistogram& h,
-                                      std::vector<std::int64_t> samples) {
+void expect_quantiles_within_a_bucket(const LatencyHistogram& h, std::vector<std::int64_t> samples) {
   std::sort(samples.begin(), samples.end());
   for (double q : {0.001, 0.01, 0.1, 0.25, 0.5, 0.75, 0.9, 0.99, 0.999}) {
     const std::int64_t truth = oracle_quantile(samples, q);
@@ -51,13 +50,11 @@ TEST(LatencyHistogram, BucketsAreLogSpacedFrom100NanosecondsToOneSecond) {
   EXPECT_EQ(h.bucket_lower(1 + 4 * LatencyHistogram::kBucketsPerDecade), 1'000'000);
   EXPECT_EQ(h.bucket_of(999'999'999), LatencyHistogram::kBucketCount - 2);
   EXPECT_EQ(h.bucket_of(1'000'000'000), LatencyHistogram::kBucketCount - 1);
-  EXPECT_EQ(h.bucket_of(std::numeric_limits<std::int64_t>::max()),
-            LatencyHistogram::kBucketCount - 1);
+  EXPECT_EQ(h.bucket_of(std::numeric_limits<std::int64_t>::max()), LatencyHistogram::kBucketCount - 1);
   const double ratio = std::pow(10.0, 1.0 / LatencyHistogram::kBucketsPerDecade);
   for (std::size_t i = 1; i + 1 < LatencyHistogram::kBucketCount; ++i) {
     EXPECT_EQ(h.bucket_upper(i), h.bucket_lower(i + 1));
-    const double r =
-        static_cast<double>(h.bucket_upper(i)) / static_cast<double>(h.bucket_lower(i));
+    const double r = static_cast<double>(h.bucket_upper(i)) / static_cast<double>(h.bucket_lower(i));
     // Integer edges: rounding moves the ratio by at most 1 ns over the lowest (100 ns) edges.
     EXPECT_NEAR(r, ratio, 1.2e-2) << "bucket " << i;
     // Every value lands in the bucket whose bounds hold it.

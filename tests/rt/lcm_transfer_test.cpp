@@ -33,8 +33,8 @@ logging::Vec3d arr(const Vec3& v) { return {v.x, v.y, v.z}; }
 
 // Built here from the report, field by field, rather than with append_frame_records, so the
 // reproduction test does not lean on the library's own record builder.
-std::vector<CollisionRecord> records_by_hand(const deform::FrameReport& report,
-                                             const deform::DeformSettings& s, std::int64_t frame_id) {
+std::vector<CollisionRecord> records_by_hand(const deform::FrameReport& report, const deform::DeformSettings& s,
+                                             std::int64_t frame_id) {
   std::vector<CollisionRecord> out;
   for (const auto& c : report.contacts) {
     if (c.state != deform::ProbeState::kCollided) continue;
@@ -43,7 +43,7 @@ std::vector<CollisionRecord> records_by_hand(const deform::FrameReport& report,
     r.effective_force = arr(c.effective_force);
     r.contact = arr(c.contact);
     r.region_kind = s.region.kind == deform::RegionSettings::Kind::kRadius ? logging::RegionKind::kRadius
-                                                                          : logging::RegionKind::kGlobal;
+                                                                           : logging::RegionKind::kGlobal;
     r.region_centre = arr(c.contact);
     r.region_radius = s.region.radius;
     r.kernel = logging::KernelKind::kKelvin;
@@ -91,8 +91,7 @@ TEST_P(Reproduce, TransferOntoTheSameModelMatchesTheDeformer) {
   const deform::DeformSettings s = sphere_settings(param.radius);
   deform::Deformer deformer(live, s);
   FrameTransfer replayer(replay);
-  const std::vector<Vec3> all = {direction(1.2, 0.1), direction(1.6, 1.3), direction(0.7, 2.9),
-                                 direction(2.2, 4.4)};
+  const std::vector<Vec3> all = {direction(1.2, 0.1), direction(1.6, 1.3), direction(0.7, 2.9), direction(2.2, 4.4)};
   // Several frames at shifting places, so the second and later frames run on a deformed model
   // (regions found under drift).
   std::size_t events = 0;
@@ -333,9 +332,8 @@ void sphere_experiment(std::size_t n) {
   }
   for (const bool radius : {false, true}) {
     const Experiment e = run_experiment(full, points, normals, full.bounding_box_diagonal(), radius);
-    std::printf("sphere %zu, %s region: %zu events, transfer difference mean %.4f %%, max %.4f %% of the diagonal\n",
-                n, radius ? "radius" : "global", e.events, 100.0 * e.difference.mean,
-                100.0 * e.difference.max);
+    std::printf("sphere %zu, %s region: %zu events, transfer difference mean %.4f %%, max %.4f %% of the diagonal\n", n,
+                radius ? "radius" : "global", e.events, 100.0 * e.difference.mean, 100.0 * e.difference.max);
     EXPECT_GT(e.events, 0u);
     EXPECT_GT(e.difference.max, 0.0);  // the two runs really differ: the test measures something
     EXPECT_LT(e.difference.mean, 0.02);
@@ -357,8 +355,8 @@ TEST(ReducedModelTransfer, FortyThousandPoints) {
     normals.push_back(full.normal(i));
   }
   const Experiment e = run_experiment(full, points, normals, diagonal, true);
-  std::printf("snowden %zu points: %zu events, transfer difference mean %.4f %%, max %.4f %%\n",
-              full.size(), e.events, 100.0 * e.difference.mean, 100.0 * e.difference.max);
+  std::printf("snowden %zu points: %zu events, transfer difference mean %.4f %%, max %.4f %%\n", full.size(), e.events,
+              100.0 * e.difference.mean, 100.0 * e.difference.max);
   EXPECT_LT(e.difference.mean, 0.02);
 }
 
@@ -397,11 +395,10 @@ TEST(Transfer, MalformedLogsNameTheFrame) {
   // A well-formed log works and reports progress frame by frame.
   std::vector<std::size_t> done;
   const std::vector<CollisionRecord> good = {event(1, 1), event(2, 2), event(2, 2)};
-  const TransferStats stats =
-      transfer(m, good, [&](std::size_t d, std::size_t total) {
-        EXPECT_EQ(total, 2u);
-        done.push_back(d);
-      });
+  const TransferStats stats = transfer(m, good, [&](std::size_t d, std::size_t total) {
+    EXPECT_EQ(total, 2u);
+    done.push_back(d);
+  });
   EXPECT_EQ(stats.frames, 2u);
   EXPECT_EQ(stats.events, 3u);
   EXPECT_EQ(done, (std::vector<std::size_t>{1, 2}));

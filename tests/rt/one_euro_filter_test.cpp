@@ -26,8 +26,7 @@ std::vector<Row> read_ground_truth() {
   if (!in) throw std::runtime_error("cannot open " + path);
   std::string line;
   std::getline(in, line);
-  if (line != "timestamp,signal,noisy,filtered")
-    throw std::runtime_error("unexpected header: " + line);
+  if (line != "timestamp,signal,noisy,filtered") throw std::runtime_error("unexpected header: " + line);
   std::vector<Row> rows;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
@@ -68,8 +67,7 @@ TEST(OneEuroFilter, ThreeAxisFilterMatchesTheReferenceOnEachAxis) {
   for (std::size_t i = 0; i < rows.size(); ++i) {
     // Same signal on x, negated on y, shifted on z: the filter is linear in offset and sign
     // (|dx| is unchanged), so each axis must follow the reference.
-    const auto out =
-        f.filter({rows[i].noisy, -rows[i].noisy, rows[i].noisy + 10.0}, rows[i].timestamp);
+    const auto out = f.filter({rows[i].noisy, -rows[i].noisy, rows[i].noisy + 10.0}, rows[i].timestamp);
     ASSERT_LE(std::abs(out[0] - rows[i].filtered), 1e-4) << "row " << i;
     ASSERT_LE(std::abs(out[1] + rows[i].filtered), 1e-4) << "row " << i;
     ASSERT_LE(std::abs(out[2] - 10.0 - rows[i].filtered), 1e-4) << "row " << i;
@@ -164,8 +162,7 @@ TEST(OneEuroFilter, ResetStartsAgainExactlyAsNew) {
   EXPECT_FALSE(f.has_output());
   EXPECT_EQ(f.rate_hz(), kReferenceRate);
   OneEuroFilter fresh(kReferenceParams, kReferenceRate);
-  for (const Row& r : rows)
-    ASSERT_EQ(f.filter(r.noisy, r.timestamp), fresh.filter(r.noisy, r.timestamp));
+  for (const Row& r : rows) ASSERT_EQ(f.filter(r.noisy, r.timestamp), fresh.filter(r.noisy, r.timestamp));
 
   OneEuroFilter3 g(kReferenceParams, kReferenceRate);
   g.filter({1.0, 2.0, 3.0}, 0.0);
@@ -182,8 +179,7 @@ TEST(OneEuroFilter, RejectsBadParameters) {
   EXPECT_THROW(OneEuroFilter({1.0, 0.1, 0.0}, 120.0), std::invalid_argument);
   EXPECT_THROW(OneEuroFilter({std::nan(""), 0.1, 1.0}, 120.0), std::invalid_argument);
   EXPECT_THROW(OneEuroFilter(kReferenceParams, 0.0), std::invalid_argument);
-  EXPECT_THROW(OneEuroFilter(kReferenceParams, std::numeric_limits<double>::infinity()),
-               std::invalid_argument);
+  EXPECT_THROW(OneEuroFilter(kReferenceParams, std::numeric_limits<double>::infinity()), std::invalid_argument);
   EXPECT_THROW(OneEuroFilter3({1.0, 0.1, -1.0}, 120.0), std::invalid_argument);
   try {
     OneEuroFilter({-2.0, 0.1, 1.0}, 120.0);

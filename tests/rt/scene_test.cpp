@@ -49,15 +49,15 @@ TEST(Scene, EveryBundledSceneParses) {
       EXPECT_LE(script.keyframes.back().time_s, 6.0);
     }
   }
-  for (const char* expected : {"sphere-press.toml", "sphere-pull.toml", "sphere-squeeze.toml",
-                               "dragon-press.toml"}) {
+  for (const char* expected : {"sphere-press.toml", "sphere-pull.toml", "sphere-squeeze.toml", "dragon-press.toml"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   }
 }
 
 TEST(Scene, SpherePressIsOneIndexFingerPressingFromAbove) {
   const Scene s = load_scene(kSceneDir + "/sphere-press.toml");
-  EXPECT_EQ(s.model.path, fs::path(std::string(SCULPT_SOURCE_DIR) + "/data/sphere_3203.ply").lexically_normal().string());
+  EXPECT_EQ(s.model.path,
+            fs::path(std::string(SCULPT_SOURCE_DIR) + "/data/sphere_3203.ply").lexically_normal().string());
   EXPECT_EQ(s.model.normals, NormalsSource::kAuto);
   EXPECT_EQ(s.deform.mode, deform::ContactMode::kPush);
   EXPECT_DOUBLE_EQ(s.loop.rate_hz, 1000.0);
@@ -76,7 +76,8 @@ TEST(Scene, SpherePressIsOneIndexFingerPressingFromAbove) {
   EXPECT_EQ(s.registration.rotation, (std::array<double, 4>{1, 0, 0, 0}));
   EXPECT_TRUE(s.registration.landmarks.empty());
   ASSERT_TRUE(s.output.model);
-  EXPECT_EQ(*s.output.model, fs::path(std::string(SCULPT_SOURCE_DIR) + "/out/sphere-press.ply").lexically_normal().string());
+  EXPECT_EQ(*s.output.model,
+            fs::path(std::string(SCULPT_SOURCE_DIR) + "/out/sphere-press.ply").lexically_normal().string());
 }
 
 TEST(Scene, SpherePullStartsInsideAndEndsOutside) {
@@ -186,7 +187,8 @@ keyframes = [[0, 0, 0, 1.3]]
 model = "out/final.ply"
 log = "/abs/events.lcmlog"
 json = "./summary.json"
-)", "/work/scenes");
+)",
+                        "/work/scenes");
   EXPECT_EQ(s.model.path, "/work/models/m.PLY");
   EXPECT_EQ(*s.output.model, "/work/scenes/out/final.ply");
   EXPECT_EQ(*s.output.log, "/abs/events.lcmlog");
@@ -424,7 +426,8 @@ ratee = 80
 [[glove.sim.script]]
 finger = "index"
 keyframes = [[0, 0, 0, 1]]
-)", "glove.sim.ratee", 7, "unknown key"},
+)",
+       "glove.sim.ratee", 7, "unknown key"},
       {"typo as a dotted key", R"([model]
 path = "m.ply"
 [glove]
@@ -434,7 +437,8 @@ sim.ratee = 3
 [[glove.sim.script]]
 finger = "index"
 keyframes = [[0, 0, 0, 1]]
-)", "glove.sim.ratee", 6, "unknown key"},
+)",
+       "glove.sim.ratee", 6, "unknown key"},
       {"typo in a script", R"([model]
 path = "m.ply"
 [glove]
@@ -445,21 +449,25 @@ keyframes = [[0, 0, 0, 1]]
 [[glove.sim.script]]
 fingr = "thumb"
 keyframes = [[0, 0, 0, 1]]
-)", "glove.sim.script[1].fingr", 9, "unknown key"},
+)",
+       "glove.sim.script[1].fingr", 9, "unknown key"},
       {"typo in a landmark", kMinimal + R"([registration]
 landmarks = [
   { glove = [0, 0, 0], model = [1, 1, 1] },
   { glove = [1, 0, 0], modle = [2, 1, 1] },
   { glove = [0, 1, 0], model = [1, 2, 1] },
 ]
-)", "registration.landmarks[1].modle", 11, "unknown key"},
-      {"typo in deform", kMinimal + "[deform]\nmode = \"push\"\nbc_raduis = 0.1\n", "deform.bc_raduis", 10, "unknown key"},
+)",
+       "registration.landmarks[1].modle", 11, "unknown key"},
+      {"typo in deform", kMinimal + "[deform]\nmode = \"push\"\nbc_raduis = 0.1\n", "deform.bc_raduis", 10,
+       "unknown key"},
       {"number given as a string", kMinimal + "[deform]\ndelta_s = \"0.1\"\n", "deform.delta_s", 9,
        "expected a number, got string"},
       {"boolean given as a number", kMinimal + "[filter]\nenabled = 1\n", "filter.enabled", 9, "expected a boolean"},
       {"integer given as a float", kMinimal + "[loop]\ncpu = 1.5\n", "loop.cpu", 9, "expected an integer, got float"},
       {"a table given as a value", "deform = 3\n" + kMinimal, "deform", 1, "expected a table, got integer"},
-      {"loop rate too low", kMinimal + "[loop]\nrate_hz = 20\n", "loop.rate_hz", 9, "out of range: 20 is not in [50, 2000]"},
+      {"loop rate too low", kMinimal + "[loop]\nrate_hz = 20\n", "loop.rate_hz", 9,
+       "out of range: 20 is not in [50, 2000]"},
       {"loop rate too high", kMinimal + "[loop]\nrate_hz = 5000\n", "loop.rate_hz", 9, "out of range"},
       {"nu above 0.5", kMinimal + "[material]\nnu = 0.6\n", "material.nu", 9, "out of range: 0.6 is not in (-1, 0.5]"},
       {"nu at -1", kMinimal + "[material]\nG = 1e6\nnu = -1\n", "material.nu", 10, "out of range"},
@@ -467,7 +475,8 @@ landmarks = [
       {"huge G", kMinimal + "[material]\nG = 2e15\n", "material.G", 9, "out of range: 2e+15 is above 1e15"},
       {"negative bc radius", kMinimal + "[deform]\nbc_radius = -0.1\n", "deform.bc_radius", 9, "must be > 0"},
       {"negative region radius", kMinimal + "[heuristic]\nregion = -2\n", "heuristic.region", 9, "must be > 0"},
-      {"budget above 1", kMinimal + "[heuristic]\nbudget_fraction = 1.5\n", "heuristic.budget_fraction", 9, "out of range"},
+      {"budget above 1", kMinimal + "[heuristic]\nbudget_fraction = 1.5\n", "heuristic.budget_fraction", 9,
+       "out of range"},
       {"infinite jitter", R"([model]
 path = "m.ply"
 [glove]
@@ -477,7 +486,8 @@ jitter = inf
 [[glove.sim.script]]
 finger = "index"
 keyframes = [[0, 0, 0, 1]]
-)", "glove.sim.jitter", 6, "must be finite"},
+)",
+       "glove.sim.jitter", 6, "must be finite"},
       {"unknown mode", kMinimal + "[deform]\nmode = \"pul\"\n", "deform.mode", 9,
        "unknown value 'pul'; expected 'push' or 'pull'"},
       {"unknown backend", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"bluetooth\"\n", "glove.backend", 4,
@@ -491,7 +501,8 @@ backend = "sim"
 [[glove.sim.script]]
 finger = "pinky"
 keyframes = [[0, 0, 0, 1]]
-)", "glove.sim.script[0].finger", 6, "unknown finger 'pinky'"},
+)",
+       "glove.sim.script[0].finger", 6, "unknown finger 'pinky'"},
       {"hand out of range", R"([model]
 path = "m.ply"
 [glove]
@@ -501,7 +512,8 @@ hands = [0,
 [[glove.sim.script]]
 finger = "index"
 keyframes = [[0, 0, 0, 1]]
-)", "glove.hands[1]", 6, "hand 2 is not 0 or 1"},
+)",
+       "glove.hands[1]", 6, "hand 2 is not 0 or 1"},
       {"missing model.path", "[model]\nnormals = \"pca\"\n[glove]\nbackend = \"sim\"\n", "model.path", 1,
        "missing required key"},
       {"missing model section", "\n\n[glove]\nbackend = \"sim\"\n", "model.path", 1, "missing required key"},
@@ -512,11 +524,15 @@ keyframes = [[0, 0, 0, 1]]
        "backend is 'sim'; remove this section or change glove.backend"},
       {"serial backend without its section", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"serial\"\n",
        "glove.serial", 4, "this section is missing"},
-      {"serial backend without a device", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"serial\"\n[glove.serial]\nbaud = 9600\n",
-       "glove.serial.device", 5, "missing required key"},
-      {"usb ids as strings", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"usb\"\n[glove.usb]\nvendor_id = \"0x1234\"\nproduct_id = 1\n",
+      {"serial backend without a device",
+       "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"serial\"\n[glove.serial]\nbaud = 9600\n", "glove.serial.device",
+       5, "missing required key"},
+      {"usb ids as strings",
+       "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"usb\"\n[glove.usb]\nvendor_id = \"0x1234\"\nproduct_id = 1\n",
        "glove.usb.vendor_id", 6, "expected an integer, got string"},
-      {"usb IN endpoint without its direction bit", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"usb\"\n[glove.usb]\nvendor_id = 1\nproduct_id = 1\nendpoint = 0x01\n",
+      {"usb IN endpoint without its direction bit",
+       "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"usb\"\n[glove.usb]\nvendor_id = 1\nproduct_id = 1\nendpoint = "
+       "0x01\n",
        "glove.usb.endpoint", 8, "out of range"},
       {"toml syntax error", kMinimal + "[loop]\nrate_hz = = 3\n", "toml", 9, ""},
       {"duplicate key", kMinimal + "[loop]\nrate_hz = 100\nrate_hz = 200\n", "toml", 10, ""},
@@ -530,7 +546,8 @@ keyframes = [
   [0.0, 0, 0, 1.3],
   [1.0, 0, 0.9],
 ]
-)", "glove.sim.script[0].keyframes[1]", 9, "expected [t, x, y, z], got 3 elements"},
+)",
+       "glove.sim.script[0].keyframes[1]", 9, "expected [t, x, y, z], got 3 elements"},
       {"keyframe coordinate as a string", R"([model]
 path = "m.ply"
 [glove]
@@ -538,7 +555,8 @@ backend = "sim"
 [[glove.sim.script]]
 finger = "index"
 keyframes = [[0.0, 0, 0, "1.3"]]
-)", "glove.sim.script[0].keyframes[0][3]", 7, "expected a number, got string"},
+)",
+       "glove.sim.script[0].keyframes[0][3]", 7, "expected a number, got string"},
       {"keyframes going backwards", R"([model]
 path = "m.ply"
 [glove]
@@ -550,7 +568,8 @@ keyframes = [
   [1.0, 0, 0, 0.9],
   [0.5, 0, 0, 1.3],
 ]
-)", "glove.sim.script[0].keyframes[2]", 10, "time 0.5 s is not after the previous keyframe's 1 s"},
+)",
+       "glove.sim.script[0].keyframes[2]", 10, "time 0.5 s is not after the previous keyframe's 1 s"},
       {"two scripts for one finger", kMinimal + "[[glove.sim.script]]\nfinger = 1\nkeyframes = [[0, 0, 0, 1]]\n",
        "glove.sim.script[1]", 8, "already has a script"},
       {"sim without a script", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"sim\"\n[glove.sim]\nrate_hz = 80\n",
@@ -560,14 +579,16 @@ landmarks = [
   { glove = [0, 0, 0], model = [1, 1, 1] },
   { glove = [1, 0, 0], model = [2, 1, 1] },
 ]
-)", "registration.landmarks", 9, "needs at least 3 landmarks, got 2"},
+)",
+       "registration.landmarks", 9, "needs at least 3 landmarks, got 2"},
       {"landmarks on a line", kMinimal + R"([registration]
 landmarks = [
   { glove = [0, 0, 0], model = [1, 1, 1] },
   { glove = [1, 0, 0], model = [2, 1, 1] },
   { glove = [2, 0, 0], model = [3, 1, 1] },
 ]
-)", "registration.landmarks", 9, "lie on one line"},
+)",
+       "registration.landmarks", 9, "lie on one line"},
       {"landmarks with an explicit transform", kMinimal + R"([registration]
 scale = 2
 landmarks = [
@@ -575,7 +596,8 @@ landmarks = [
   { glove = [1, 0, 0], model = [2, 1, 1] },
   { glove = [0, 1, 0], model = [1, 2, 1] },
 ]
-)", "registration.scale", 9, "not used with registration.landmarks"},
+)",
+       "registration.scale", 9, "not used with registration.landmarks"},
       {"rotation and axis angle", kMinimal + "[registration]\nrotation = [1, 0, 0, 0]\naxis_angle = [0, 0, 1, 0]\n",
        "registration.axis_angle", 10, "not both"},
       {"quaternion not unit", kMinimal + "[registration]\nrotation = [1, 0, 0, 0.5]\n", "registration.rotation", 9,
@@ -595,23 +617,28 @@ keyframes = [[0, 0, 0, 1]]
 [haptic]
 sink = "can"
 [haptic.can]
-)", "haptic.sink", 10, "needs normals"},
+)",
+       "haptic.sink", 10, "needs normals"},
       {"regularized kernel without eps", kMinimal + "[kernel]\nkind = \"regularized\"\n", "kernel.eps", 9,
        "missing required key (kernel.kind is 'regularized')"},
-      {"eps with the kelvin kernel", kMinimal + "[kernel]\neps = 0.1\n", "kernel.eps", 9, "only used with kernel.kind = 'regularized'"},
+      {"eps with the kelvin kernel", kMinimal + "[kernel]\neps = 0.1\n", "kernel.eps", 9,
+       "only used with kernel.kind = 'regularized'"},
       {"no normals and no reference", "[model]\npath = \"m.ply\"\nnormals = \"none\"\n", "model.normals", 3,
        "needs model.reference"},
       {"reference with computed normals", "[model]\npath = \"m.ply\"\nnormals = \"pca\"\nreference = [0, 0, 9]\n",
        "model.reference", 4, "only used with model.normals = 'none'"},
       {"border weight on a global region", kMinimal + "[deform]\nborder_weight = 2\n", "deform.border_weight", 9,
        "only used with a localised region"},
-      {"angles from the sim glove", kMinimal + "[hand]\nkind = \"angles\"\n", "hand.kind", 9, "sim glove sends fingertip positions"},
+      {"angles from the sim glove", kMinimal + "[hand]\nkind = \"angles\"\n", "hand.kind", 9,
+       "sim glove sends fingertip positions"},
       {"flush interval without a log", kMinimal + "[output]\nflush_interval_ms = 50\n", "output.flush_interval_ms", 9,
        "only used with output.log"},
-      {"output overwrites the model", kMinimal + "[output]\nmodel = \"./m.ply\"\n", "output.model", 9, "would overwrite"},
-      {"zero glove timeout", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"sim\"\ntimeout_ms = 0\n"
-       "[[glove.sim.script]]\nfinger = 1\nkeyframes = [[0, 0, 0, 1]]\n", "glove.timeout_ms", 5,
-       "must be > 0"},
+      {"output overwrites the model", kMinimal + "[output]\nmodel = \"./m.ply\"\n", "output.model", 9,
+       "would overwrite"},
+      {"zero glove timeout",
+       "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"sim\"\ntimeout_ms = 0\n"
+       "[[glove.sim.script]]\nfinger = 1\nkeyframes = [[0, 0, 0, 1]]\n",
+       "glove.timeout_ms", 5, "must be > 0"},
       {"dropout of 1", R"([model]
 path = "m.ply"
 [glove]
@@ -621,7 +648,8 @@ dropout = 1.0
 [[glove.sim.script]]
 finger = "index"
 keyframes = [[0, 0, 0, 1]]
-)", "glove.sim.dropout", 6, "out of range: 1 is not in [0, 1)"},
+)",
+       "glove.sim.dropout", 6, "out of range: 1 is not in [0, 1)"},
       {"bad lcm url", kMinimal + "[lcm]\nurl = \"239.255.76.67\"\n", "lcm.url", 9, "is not an LCM URL"},
   };
 }

@@ -19,13 +19,10 @@ namespace {
 using V = std::array<double, 3>;
 constexpr double kPi = std::numbers::pi;
 
-double distance(const V& a, const V& b) {
-  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
-}
+double distance(const V& a, const V& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
 
 double det(const Matrix3& m) {
-  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-         m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
          m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
@@ -51,11 +48,9 @@ void expect_proper_rotation(const Matrix3& r) {
 SimilarityTransform random_similarity(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(0.0, 1.0), t(-5.0, 5.0), log_scale(-2.0, 2.0);
   const double u1 = u(rng), u2 = u(rng), u3 = u(rng);
-  const Quaternion q{
-      std::sqrt(1 - u1) * std::sin(2 * kPi * u2), std::sqrt(1 - u1) * std::cos(2 * kPi * u2),
-      std::sqrt(u1) * std::sin(2 * kPi * u3), std::sqrt(u1) * std::cos(2 * kPi * u3)};
-  return SimilarityTransform::from_scale_rotation_translation(std::exp(log_scale(rng)), q,
-                                                              {t(rng), t(rng), t(rng)});
+  const Quaternion q{std::sqrt(1 - u1) * std::sin(2 * kPi * u2), std::sqrt(1 - u1) * std::cos(2 * kPi * u2),
+                     std::sqrt(u1) * std::sin(2 * kPi * u3), std::sqrt(u1) * std::cos(2 * kPi * u3)};
+  return SimilarityTransform::from_scale_rotation_translation(std::exp(log_scale(rng)), q, {t(rng), t(rng), t(rng)});
 }
 
 std::vector<V> random_points(std::mt19937& rng, int n, double extent) {
@@ -74,10 +69,8 @@ TEST(SimilarityTransform, DefaultIsTheIdentity) {
 TEST(SimilarityTransform, KnownRotationsMapTheAxes) {
   // 90 degrees about z, as a quaternion and as an axis-angle: x -> y, y -> -x.
   const double h = std::sqrt(0.5);
-  const auto q =
-      SimilarityTransform::from_scale_rotation_translation(2.0, Quaternion{h, 0, 0, h}, {1, 2, 3});
-  const auto a = SimilarityTransform::from_scale_rotation_translation(
-      2.0, AxisAngle{{0, 0, 5}, kPi / 2}, {1, 2, 3});
+  const auto q = SimilarityTransform::from_scale_rotation_translation(2.0, Quaternion{h, 0, 0, h}, {1, 2, 3});
+  const auto a = SimilarityTransform::from_scale_rotation_translation(2.0, AxisAngle{{0, 0, 5}, kPi / 2}, {1, 2, 3});
   for (const auto* t : {&q, &a}) {
     const V x = t->apply({1, 0, 0});
     EXPECT_NEAR(x[0], 1.0, 1e-15);
@@ -89,8 +82,8 @@ TEST(SimilarityTransform, KnownRotationsMapTheAxes) {
     EXPECT_NEAR(y[2], 0.0, 1e-15);
   }
   // 120 degrees about (1,1,1) permutes the axes cyclically: x -> y -> z -> x.
-  const auto c = SimilarityTransform::from_scale_rotation_translation(
-      1.0, AxisAngle{{1, 1, 1}, 2 * kPi / 3}, {0, 0, 0});
+  const auto c =
+      SimilarityTransform::from_scale_rotation_translation(1.0, AxisAngle{{1, 1, 1}, 2 * kPi / 3}, {0, 0, 0});
   const V z = c.apply({0, 1, 0});
   EXPECT_NEAR(z[0], 0.0, 1e-15);
   EXPECT_NEAR(z[1], 0.0, 1e-15);
@@ -103,8 +96,7 @@ TEST(SimilarityTransform, QuaternionRoundTrips) {
     const SimilarityTransform t = random_similarity(rng);
     const Quaternion q = t.quaternion();
     EXPECT_GE(q.w, 0.0);
-    const auto back =
-        SimilarityTransform::from_scale_rotation_translation(t.scale(), q, t.translation());
+    const auto back = SimilarityTransform::from_scale_rotation_translation(t.scale(), q, t.translation());
     EXPECT_LT(max_abs_difference(back.rotation(), t.rotation()), 1e-14);
     expect_proper_rotation(t.rotation());
   }
@@ -129,15 +121,12 @@ TEST(SimilarityTransform, InverseAndComposeObeyTheirLaws) {
 
 TEST(SimilarityTransform, QuaternionNearUnitIsNormalisedFarFromUnitIsRejected) {
   const double h = std::sqrt(0.5) * (1 + 5e-7);  // norm off by 5e-7: accepted
-  const auto t =
-      SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{h, 0, 0, h}, {0, 0, 0});
+  const auto t = SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{h, 0, 0, h}, {0, 0, 0});
   expect_proper_rotation(t.rotation());
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{1.01, 0, 0, 0},
-                                                                    {0, 0, 0}),
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{1.01, 0, 0, 0}, {0, 0, 0}),
                std::invalid_argument);
-  EXPECT_THROW(
-      SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{0, 0, 0, 0}, {0, 0, 0}),
-      std::invalid_argument);
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{0, 0, 0, 0}, {0, 0, 0}),
+               std::invalid_argument);
   try {
     SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{2, 0, 0, 0}, {0, 0, 0});
     FAIL();
@@ -149,32 +138,22 @@ TEST(SimilarityTransform, QuaternionNearUnitIsNormalisedFarFromUnitIsRejected) {
 TEST(SimilarityTransform, RejectsInvalidParameters) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const Quaternion id{};
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(0.0, id, {0, 0, 0}),
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(0.0, id, {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(-1.0, id, {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(nan, id, {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, id, {0, nan, 0}), std::invalid_argument);
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{nan, 0, 0, 0}, {0, 0, 0}),
                std::invalid_argument);
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(-1.0, id, {0, 0, 0}),
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, AxisAngle{{0, 0, 0}, 1.0}, {0, 0, 0}),
                std::invalid_argument);
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(nan, id, {0, 0, 0}),
-               std::invalid_argument);
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, id, {0, nan, 0}),
-               std::invalid_argument);
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, Quaternion{nan, 0, 0, 0},
-                                                                    {0, 0, 0}),
-               std::invalid_argument);
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, AxisAngle{{0, 0, 0}, 1.0},
-                                                                    {0, 0, 0}),
-               std::invalid_argument);
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, AxisAngle{{0, 0, 1}, nan},
-                                                                    {0, 0, 0}),
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, AxisAngle{{0, 0, 1}, nan}, {0, 0, 0}),
                std::invalid_argument);
   // A zero angle needs no axis.
-  EXPECT_NO_THROW(SimilarityTransform::from_scale_rotation_translation(
-      1.0, AxisAngle{{0, 0, 0}, 0.0}, {0, 0, 0}));
+  EXPECT_NO_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, AxisAngle{{0, 0, 0}, 0.0}, {0, 0, 0}));
   const Matrix3 mirror{{{-1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
   const Matrix3 sheared{{{1, 0.1, 0}, {0, 1, 0}, {0, 0, 1}}};
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, mirror, {0, 0, 0}),
-               std::invalid_argument);
-  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, sheared, {0, 0, 0}),
-               std::invalid_argument);
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, mirror, {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(SimilarityTransform::from_scale_rotation_translation(1.0, sheared, {0, 0, 0}), std::invalid_argument);
 }
 
 // Calibration ------------------------------------------------------------------------------
@@ -240,8 +219,8 @@ TEST(Calibration, ReportsResidualsAtTheNoiseLevel) {
   // The residuals reported are the residuals of the transform returned.
   double sum = 0.0, worst = 0.0;
   for (int i = 0; i < n; ++i) {
-    const double e = distance(c.transform.apply(glove[static_cast<std::size_t>(i)]),
-                              model[static_cast<std::size_t>(i)]);
+    const double e =
+        distance(c.transform.apply(glove[static_cast<std::size_t>(i)]), model[static_cast<std::size_t>(i)]);
     sum += e * e;
     worst = std::max(worst, e);
   }
@@ -255,8 +234,7 @@ TEST(Calibration, AMirroredDataSetStillGivesAProperRotation) {
     const SimilarityTransform truth = random_similarity(rng);
     const std::vector<V> glove = random_points(rng, 12, 1.0);
     std::vector<V> model;
-    for (const V& g : glove)
-      model.push_back(truth.apply({-g[0], g[1], g[2]}));  // a reflection first
+    for (const V& g : glove) model.push_back(truth.apply({-g[0], g[1], g[2]}));  // a reflection first
     const Calibration c = calibrate_umeyama(glove, model);
     expect_proper_rotation(c.transform.rotation());
     EXPECT_GT(c.transform.scale(), 0.0);
@@ -276,8 +254,7 @@ TEST(Calibration, RejectsTooFewMismatchedAndDegenerateLandmarks) {
   EXPECT_THROW(calibrate_umeyama(four, collinear), std::invalid_argument);
   const std::vector<V> coincident{{1, 2, 3}, {1, 2, 3}, {1, 2, 3}};
   EXPECT_THROW(calibrate_umeyama(coincident, three), std::invalid_argument);
-  const std::vector<V> with_nan{
-      {0, 0, 0}, {1, 0, 0}, {0, std::numeric_limits<double>::quiet_NaN(), 0}};
+  const std::vector<V> with_nan{{0, 0, 0}, {1, 0, 0}, {0, std::numeric_limits<double>::quiet_NaN(), 0}};
   EXPECT_THROW(calibrate_umeyama(with_nan, three), std::invalid_argument);
   try {
     calibrate_umeyama(collinear, four);

@@ -69,9 +69,9 @@ TEST(StationSetup, LengthsFarBeyondTheModelAreRefusedNamingTheKey) {
 
 TEST(StationSetup, NanAndHugeMaterialsAreRefusedWhenTheSceneIsRead) {
   const std::pair<const char*, const char*> cases[] = {{"[deform]\ndelta_d = nan\n", "deform.delta_d"},
-                                                        {"[deform]\nbc_radius = inf\n", "deform.bc_radius"},
-                                                        {"[material]\nG = 1e16\n", "material.G"},
-                                                        {"[material]\nG = nan\n", "material.G"}};
+                                                       {"[deform]\nbc_radius = inf\n", "deform.bc_radius"},
+                                                       {"[material]\nG = 1e16\n", "material.G"},
+                                                       {"[material]\nG = nan\n", "material.G"}};
   for (const auto& [extra, key] : cases) {
     try {
       sphere_scene(extra);
@@ -92,8 +92,9 @@ TEST(StationSetup, TheFilesBadNormalsAreRepairedOrRefusedAsTheSceneSays) {
   const std::string path = ::testing::TempDir() + "station_setup_bad_normals.ply";
   deform::write_ply(path, sphere);
   const std::string model = "[model]\npath = \"" + path + "\"\n";
-  const std::string glove = "[glove]\nbackend = \"sim\"\n[[glove.sim.script]]\nfinger = \"index\"\n"
-                            "keyframes = [[0, 0, 0, 1.3]]\n";
+  const std::string glove =
+      "[glove]\nbackend = \"sim\"\n[[glove.sim.script]]\nfinger = \"index\"\n"
+      "keyframes = [[0, 0, 0, 1.3]]\n";
   const StationSetup repaired = prepare_station(parse_scene(model + glove, "t.toml", ""));
   EXPECT_EQ(repaired.normal_report.zero_or_nonfinite, 12u);
   EXPECT_EQ(repaired.normal_report.renormalised, 3203u - 12u);
@@ -101,8 +102,7 @@ TEST(StationSetup, TheFilesBadNormalsAreRepairedOrRefusedAsTheSceneSays) {
   const Scene refusing = parse_scene(model + "bad_normals = \"refuse\"\n" + glove, "t.toml", "");
   EXPECT_THROW(prepare_station(refusing), deform::ModelFileError);
   // Normals the scene replaces anyway need no policy: naming one is a slip.
-  EXPECT_THROW(parse_scene(model + "normals = \"pca\"\nbad_normals = \"refuse\"\n" + glove, "t.toml", ""),
-               SceneError);
+  EXPECT_THROW(parse_scene(model + "normals = \"pca\"\nbad_normals = \"refuse\"\n" + glove, "t.toml", ""), SceneError);
   std::filesystem::remove(path);
 }
 

@@ -73,7 +73,8 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
   // The pole was pushed in toward the finger's final depth.
   double lowest = 2.0;
   for (std::size_t i = 0; i < sphere.size(); ++i) {
-    if (before.z[i] > 0.0f && std::abs(sphere.x[i]) < 0.05 && std::abs(sphere.y[i]) < 0.05) lowest = std::min(lowest, double(sphere.z[i]));
+    if (before.z[i] > 0.0f && std::abs(sphere.x[i]) < 0.05 && std::abs(sphere.y[i]) < 0.05)
+      lowest = std::min(lowest, double(sphere.z[i]));
   }
   EXPECT_LT(lowest, 0.95);
   EXPECT_GT(lowest, 0.85);
@@ -127,7 +128,6 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
     for (std::size_t i = 0; i < sphere.size(); ++i) best = std::min(best, deform::norm(sphere.position(i) - q));
     EXPECT_DOUBLE_EQ(station.deformer().index().nearest(sphere, q, station.deformer().drift()).distance, best);
   }
-
 }
 
 // Two hands, the right one goes silent: its finger is released within one tick past the

@@ -58,8 +58,8 @@ CaseResult run_case(const CaseSpec& spec, const Tolerances& tol) {
       const deform::PointModel variant_initial = transformed(*spec.model, variant_frame);
       // Positions are floats: kUlps float ulps of the largest coordinate (either frame) are
       // round-off whatever the physics, so a displacement that small is judged against them.
-      const double magnitude = std::max(coordinate_magnitude(initial, Similarity{}),
-                                        coordinate_magnitude(variant_initial, extra));
+      const double magnitude =
+          std::max(coordinate_magnitude(initial, Similarity{}), coordinate_magnitude(variant_initial, extra));
       const double floor = kUlps * FLT_EPSILON * magnitude / result.tolerance;
       out = relative_deviation(initial, base.model(), variant_initial, variant.model(), extra, floor);
       if (!(*out <= result.tolerance)) result.failures.push_back(format(what, *out, result.tolerance));

@@ -114,8 +114,7 @@ std::function<void(StrokeRunner&)> push_series(std::vector<std::size_t> sites, i
 }
 
 // Fingers moving radially into the unit sphere from radius `from` in `frames` steps of `step`.
-std::function<void(StrokeRunner&)> radial_squeeze(std::vector<Vec3> directions, double from, double step,
-                                                  int frames) {
+std::function<void(StrokeRunner&)> radial_squeeze(std::vector<Vec3> directions, double from, double step, int frames) {
   return [directions, from, step, frames](StrokeRunner& r) {
     std::vector<Vec3> at;
     for (const Vec3& d : directions) at.push_back(normalized(d) * from);
@@ -146,8 +145,8 @@ std::function<void(StrokeRunner&)> slide(double x_from, int frames) {
 }
 
 const std::vector<Vec3> kHandOne = {{-1, 0, 0.4}, {1, -0.45, 0.4}, {1, -0.15, 0.4}, {1, 0.15, 0.4}, {1, 0.45, 0.4}};
-const std::vector<Vec3> kHandTwo = {{0, -1, -0.5}, {-0.45, 1, -0.5}, {-0.15, 1, -0.5}, {0.15, 1, -0.5},
-                                    {0.45, 1, -0.5}};
+const std::vector<Vec3> kHandTwo = {
+    {0, -1, -0.5}, {-0.45, 1, -0.5}, {-0.15, 1, -0.5}, {0.15, 1, -0.5}, {0.45, 1, -0.5}};
 
 // ---- the settings axes --------------------------------------------------------------------
 
@@ -241,8 +240,8 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
   const Model rows = std::make_shared<const deform::PointModel>(make_rows(41, 9, 0.05, 0.2));
   const std::size_t pole = highest_along(*sphere, {0, 0, 1});
   const Vec3 pole_normal = sphere->position(pole);
-  const Model doubled = std::make_shared<const deform::PointModel>(
-      with_duplicates_near(*sphere, sphere->position(pole), 0.2));
+  const Model doubled =
+      std::make_shared<const deform::PointModel>(with_duplicates_near(*sphere, sphere->position(pole), 0.2));
   const std::size_t sheet_middle = nearest_point(*sheet, {});
   const std::size_t rows_middle = nearest_point(*rows, {});
   const Outside convex{Outside::Kind::kAwayFromCentroid, {}};
@@ -259,29 +258,60 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
   };
   const std::vector<Single> singles = {
       {"probe_on_point", sphere, pole, pole_normal, convex, 1.0,
-       [](const Local& l, auto& prev, auto& cur) { prev = {l.a + l.n * (2 * l.s)}; cur = {l.a}; }},
+       [](const Local& l, auto& prev, auto& cur) {
+         prev = {l.a + l.n * (2 * l.s)};
+         cur = {l.a};
+       }},
       {"previous_on_point", sphere, pole, pole_normal, convex, 1.0,
-       [](const Local& l, auto& prev, auto& cur) { prev = {l.a}; cur = {l.a - l.n * (0.5 * l.s)}; }},
+       [](const Local& l, auto& prev, auto& cur) {
+         prev = {l.a};
+         cur = {l.a - l.n * (0.5 * l.s)};
+       }},
       {"source_1e-6_above", sphere, pole, pole_normal, convex, 1.0,
-       [](const Local& l, auto& prev, auto& cur) { prev = {l.a + l.n * 1e-6}; cur = {l.a - l.n * (0.5 * l.s)}; }},
+       [](const Local& l, auto& prev, auto& cur) {
+         prev = {l.a + l.n * 1e-6};
+         cur = {l.a - l.n * (0.5 * l.s)};
+       }},
       {"two_fingers_closer_than_dd", sphere, pole, pole_normal, convex, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.n * (2 * l.s) + l.t * (0.3 * l.dd), l.a + l.n * (2 * l.s) - l.t * (0.3 * l.dd)};
          cur = {l.a - l.n * (0.5 * l.s) + l.t * (0.3 * l.dd), l.a - l.n * (0.5 * l.s) - l.t * (0.3 * l.dd)};
        }},
       {"grazing", sphere, pole, pole_normal, convex, 1.0,
-       [](const Local& l, auto& prev, auto& cur) { prev = {l.a + l.t * (2 * l.s)}; cur = {l.a - l.n * (1e-3 * l.s)}; }},
+       [](const Local& l, auto& prev, auto& cur) {
+         prev = {l.a + l.t * (2 * l.s)};
+         cur = {l.a - l.n * (1e-3 * l.s)};
+       }},
       {"tangential", sphere, pole, pole_normal, convex, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.t * (1.5 * l.s) + l.n * (0.3 * l.s)};
          cur = {l.a - l.t * (1.5 * l.s) - l.n * (0.3 * l.s)};
        }},
       {"duplicate_points", doubled, pole, pole_normal, convex, 1.0,
-       [](const Local& l, auto& prev, auto& cur) { prev = {l.a + l.n * (2 * l.s)}; cur = {l.a - l.n * (0.5 * l.s)}; }},
-      {"collinear_bc_set", rows, rows_middle, {0, 0, 1}, up, 1.5,
-       [](const Local& l, auto& prev, auto& cur) { prev = {l.a + l.n * (2 * l.s)}; cur = {l.a - l.n * (0.5 * l.s)}; }},
-      {"single_point_bc_set", sheet, sheet_middle, {0, 0, 1}, up, 0.4,
-       [](const Local& l, auto& prev, auto& cur) { prev = {l.a + l.n * (2 * l.s)}; cur = {l.a - l.n * (0.5 * l.s)}; }},
+       [](const Local& l, auto& prev, auto& cur) {
+         prev = {l.a + l.n * (2 * l.s)};
+         cur = {l.a - l.n * (0.5 * l.s)};
+       }},
+      {"collinear_bc_set",
+       rows,
+       rows_middle,
+       {0, 0, 1},
+       up,
+       1.5,
+       [](const Local& l, auto& prev, auto& cur) {
+         prev = {l.a + l.n * (2 * l.s)};
+         cur = {l.a - l.n * (0.5 * l.s)};
+       }},
+      {"single_point_bc_set",
+       sheet,
+       sheet_middle,
+       {0, 0, 1},
+       up,
+       0.4,
+       [](const Local& l, auto& prev, auto& cur) {
+         prev = {l.a + l.n * (2 * l.s)};
+         cur = {l.a - l.n * (0.5 * l.s)};
+       }},
   };
 
   std::vector<CaseSpec> cases;
@@ -344,8 +374,8 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
   bust.stroke = true;
   bust.outside = convex;
   const int pushes = options.quick ? 20 : 190;
-  bust.name = std::filesystem::path(options.scan_path).filename().string() + " " + std::to_string(pushes) +
-              " pushes " + describe(bust.settings);
+  bust.name = std::filesystem::path(options.scan_path).filename().string() + " " + std::to_string(pushes) + " pushes " +
+              describe(bust.settings);
   if (!std::filesystem::exists(options.scan_path)) {
     bust.skipped = options.scan_path + " not found (scripts/fetch_scans.sh)";
   } else {

@@ -38,17 +38,17 @@ Similarity Similarity::scaling(double s) {
 
 Similarity Similarity::rigid(const Vec3& axis, double angle, const Vec3& shift) {
   const Vec3 a = deform::normalized(axis);
-  const double c = std::cos(angle), s = std::sin(angle), C = 1.0 - c;
+  const double c = std::cos(angle), s = std::sin(angle), one_minus_c = 1.0 - c;
   Similarity t;
-  t.r[0][0] = c + a.x * a.x * C;
-  t.r[0][1] = a.x * a.y * C - a.z * s;
-  t.r[0][2] = a.x * a.z * C + a.y * s;
-  t.r[1][0] = a.y * a.x * C + a.z * s;
-  t.r[1][1] = c + a.y * a.y * C;
-  t.r[1][2] = a.y * a.z * C - a.x * s;
-  t.r[2][0] = a.z * a.x * C - a.y * s;
-  t.r[2][1] = a.z * a.y * C + a.x * s;
-  t.r[2][2] = c + a.z * a.z * C;
+  t.r[0][0] = c + a.x * a.x * one_minus_c;
+  t.r[0][1] = a.x * a.y * one_minus_c - a.z * s;
+  t.r[0][2] = a.x * a.z * one_minus_c + a.y * s;
+  t.r[1][0] = a.y * a.x * one_minus_c + a.z * s;
+  t.r[1][1] = c + a.y * a.y * one_minus_c;
+  t.r[1][2] = a.y * a.z * one_minus_c - a.x * s;
+  t.r[2][0] = a.z * a.x * one_minus_c - a.y * s;
+  t.r[2][1] = a.z * a.y * one_minus_c + a.x * s;
+  t.r[2][2] = c + a.z * a.z * one_minus_c;
   t.shift = shift;
   return t;
 }
@@ -80,7 +80,8 @@ double relative_deviation(const deform::PointModel& initial, const deform::Point
 double coordinate_magnitude(const deform::PointModel& model, const Similarity& t) {
   double largest = 0.0;
   for (std::size_t i = 0; i < model.size(); ++i) {
-    largest = std::max({largest, double{std::abs(model.x[i])}, double{std::abs(model.y[i])}, double{std::abs(model.z[i])}});
+    largest =
+        std::max({largest, double{std::abs(model.x[i])}, double{std::abs(model.y[i])}, double{std::abs(model.z[i])}});
   }
   return largest / t.scale;
 }

@@ -113,7 +113,9 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
       m.max_displacement_ratio = std::max(m.max_displacement_ratio, f.max_displacement / largest_force);
       if (trace_ && f.max_displacement > 3.0 * largest_force) {
         const deform::ContactReport& c = f.contacts[0];
-        std::fprintf(stderr, "RATIO step %zu: |F| %.4g moved %.4g, bc points %zu, source %.4g from A, rule %d, residual %.3g, guards %u\n",
+        std::fprintf(stderr,
+                     "RATIO step %zu: |F| %.4g moved %.4g, bc points %zu, source %.4g from A, rule %d, residual %.3g, "
+                     "guards %u\n",
                      m.steps, largest_force, f.max_displacement, c.boundary_points, norm(c.source - c.contact),
                      static_cast<int>(c.source_rule), f.solve.relative_residual, f.guards.total());
       }
@@ -132,14 +134,17 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
     if (!std::isfinite(side) || side < -delta_d_) ++m.probe_inside;
     if (std::isfinite(side)) m.deepest = std::max(m.deepest, -side);
     if (trace_) {
-      std::fprintf(stderr, "step %zu finger %zu state %d before %.4g prev %.4g after %.4g code_side %.4g miss %.4g pushed %d F %.4g rej %d nf %zu\n",
-                   m.steps, f, static_cast<int>(c.state), side_before_[f], previous_side_[f], side, c.side_after / frame_.scale,
-                   c.miss, c.pushed_out, norm(c.force), report.rejected, deformer_.frames().size());
+      std::fprintf(stderr,
+                   "step %zu finger %zu state %d before %.4g prev %.4g after %.4g code_side %.4g miss %.4g pushed %d F "
+                   "%.4g rej %d nf %zu\n",
+                   m.steps, f, static_cast<int>(c.state), side_before_[f], previous_side_[f], side,
+                   c.side_after / frame_.scale, c.miss, c.pushed_out, norm(c.force), report.rejected,
+                   deformer_.frames().size());
       const PlaneSide o = surface(after);
       const Vec3 cn = frame_.unrotate(model_.normal(o.nearest));
       const Vec3 pa = point(o.nearest);
-      std::fprintf(stderr, "   nearest %u at (%.4g %.4g %.4g) code n (%.3g %.3g %.3g) oracle n (%.3g %.3g %.3g)\n", o.nearest,
-                   pa.x, pa.y, pa.z, cn.x, cn.y, cn.z, o.normal.x, o.normal.y, o.normal.z);
+      std::fprintf(stderr, "   nearest %u at (%.4g %.4g %.4g) code n (%.3g %.3g %.3g) oracle n (%.3g %.3g %.3g)\n",
+                   o.nearest, pa.x, pa.y, pa.z, cn.x, cn.y, cn.z, o.normal.x, o.normal.y, o.normal.z);
     }
     fingers_[f].earlier = fingers_[f].accepted;
     fingers_[f].accepted = after;

@@ -30,8 +30,8 @@ struct Outside {
 struct PlaneSide {
   /// Signed distance along the plane's outward normal from the nearest point: negative inside.
   double side = 0.0;
-  deform::Vec3 normal;  ///< outward unit normal of the fitted plane
-  deform::Vec3 centre;  ///< mean of the k nearest points (a point of the plane)
+  deform::Vec3 normal;        ///< outward unit normal of the fitted plane
+  deform::Vec3 centre;        ///< mean of the k nearest points (a point of the plane)
   std::uint32_t nearest = 0;  ///< the nearest model point to the query
 };
 
@@ -50,8 +50,8 @@ class SurfaceSideOracle {
   std::size_t k() const { return k_; }
 
  private:
-  deform::Vec3 carried_by_rotation(const deform::PointModel& reference, const deform::PointModel& model,
-                                   std::size_t k, const deform::Vec3& v) const;
+  deform::Vec3 carried_by_rotation(const deform::PointModel& reference, const deform::PointModel& model, std::size_t k,
+                                   const deform::Vec3& v) const;
   std::size_t k_;
   std::vector<std::pair<double, std::uint32_t>> scratch_;
 };

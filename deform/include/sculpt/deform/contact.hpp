@@ -49,7 +49,7 @@ struct ProbeMotion {
 /// Where a probe stands against the pseudo-surface.
 struct SurfaceSide {
   std::uint32_t nearest = PointIndex::kNoPoint;  ///< A, the nearest model point
-  double distance = 0.0;                          ///< |P - A|
+  double distance = 0.0;                         ///< |P - A|
   /// n_A . (P - A) with normals, (P - A) . (R - A)/|R - A| with a reference point: a signed
   /// distance along the outside direction, negative inside.
   double side = 0.0;
@@ -57,14 +57,12 @@ struct SurfaceSide {
 
 /// Nearest point and side of `probe`, exact for a model that moved at most `drift` since the
 /// index was built. The model must have normals or settings.reference must be set.
-SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift,
-                   const Vec3& probe, const ContactSettings& settings);
+SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift, const Vec3& probe,
+                   const ContactSettings& settings);
 
 /// True when a probe at `side` has crossed the surface the way `mode` forbids: inside for a
 /// push, outside for a pull. Grazing (side == 0) is no collision.
-inline bool crossed(ContactMode mode, double side) {
-  return mode == ContactMode::kPush ? side < 0.0 : side > 0.0;
-}
+inline bool crossed(ContactMode mode, double side) { return mode == ContactMode::kPush ? side < 0.0 : side > 0.0; }
 
 /// How the source point was chosen (the Δd rule).
 enum class SourceRule {

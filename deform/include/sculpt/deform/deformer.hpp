@@ -44,14 +44,14 @@ struct GuardSettings {
 
 /// How often each guard acted: per frame in FrameReport, summed by callers.
 struct GuardCounts {
-  std::uint32_t source_moved = 0;    ///< sources moved out to keep their clearance
-  std::uint32_t fold_splits = 0;     ///< a frame that would fold was undone and halved
-  std::uint32_t fold_rejected = 0;   ///< a substep still folding at the depth limit: undone, dropped
-  std::uint32_t non_finite = 0;      ///< a frame with a non-finite result: undone, dropped
-  std::uint32_t pushed_out = 0;      ///< fingers moved back out of the surface after a frame
-  std::uint32_t damped = 0;          ///< solves that fell back to Tikhonov damping
-  std::uint32_t probe_dropped = 0;   ///< probes not finite or out of range: ignored
-  std::uint32_t patch_widened = 0;   ///< contact patches widened to the finger's size
+  std::uint32_t source_moved = 0;   ///< sources moved out to keep their clearance
+  std::uint32_t fold_splits = 0;    ///< a frame that would fold was undone and halved
+  std::uint32_t fold_rejected = 0;  ///< a substep still folding at the depth limit: undone, dropped
+  std::uint32_t non_finite = 0;     ///< a frame with a non-finite result: undone, dropped
+  std::uint32_t pushed_out = 0;     ///< fingers moved back out of the surface after a frame
+  std::uint32_t damped = 0;         ///< solves that fell back to Tikhonov damping
+  std::uint32_t probe_dropped = 0;  ///< probes not finite or out of range: ignored
+  std::uint32_t patch_widened = 0;  ///< contact patches widened to the finger's size
 
   GuardCounts& operator+=(const GuardCounts& o) noexcept;
   std::uint32_t total() const noexcept;
@@ -95,23 +95,23 @@ enum class ProbeState {
 struct ContactReport {
   ProbeState state = ProbeState::kFree;
   std::uint32_t nearest = PointIndex::kNoPoint;  ///< A, nearest model point to the probe
-  Vec3 contact;                                   ///< A's position before the frame
-  double distance = 0.0;                          ///< |P_f - A|
-  Vec3 source;                                    ///< where the force acts
+  Vec3 contact;                                  ///< A's position before the frame
+  double distance = 0.0;                         ///< |P_f - A|
+  Vec3 source;                                   ///< where the force acts
   SourceRule source_rule = SourceRule::kPrevious;
-  Vec3 force;                                     ///< F = P_f - A
-  Vec3 weights;                                   ///< alpha of MATH.md §3
-  Vec3 effective_force;                           ///< f: logged, and used for traction
-  std::size_t boundary_points = 0;                ///< points in the eps-neighbourhood of A
-  double side_after = 0.0;                        ///< the probe's side after the frame (< 0 inside)
+  Vec3 force;                       ///< F = P_f - A
+  Vec3 weights;                     ///< alpha of MATH.md §3
+  Vec3 effective_force;             ///< f: logged, and used for traction
+  std::size_t boundary_points = 0;  ///< points in the eps-neighbourhood of A
+  double side_after = 0.0;          ///< the probe's side after the frame (< 0 inside)
   /// How far the probe was still across the surface after the frame, before any push-out
   /// (0 when it ended outside): what the solve missed.
   double miss = 0.0;
-  bool pushed_out = false;                        ///< found across the surface after the frame and moved out
-  Vec3 probe_after;                               ///< the probe position after the frame
+  bool pushed_out = false;  ///< found across the surface after the frame and moved out
+  Vec3 probe_after;         ///< the probe position after the frame
   bool has_traction = false;
-  Vec3 traction;                                  ///< t at A (force per area)
-  Vec3 traction_resultant;                        ///< sum of t over the neighbourhood times area per point
+  Vec3 traction;            ///< t at A (force per area)
+  Vec3 traction_resultant;  ///< sum of t over the neighbourhood times area per point
 };
 
 struct FrameReport {
@@ -206,12 +206,12 @@ class Deformer {
   std::size_t applied_ = 0;              // frames of the last step kept in substeps_
   std::vector<ProbeMotion> sub_probes_;  // the motions of a substep
   UndoJournal journal_;
-  FrameReport folded_;                   // what a folded first attempt decided
-  const FrameReport* last_ = nullptr;    // the last attempt of the step
-  GuardCounts carried_;                  // guards of attempts undone on the way
+  FrameReport folded_;                 // what a folded first attempt decided
+  const FrameReport* last_ = nullptr;  // the last attempt of the step
+  GuardCounts carried_;                // guards of attempts undone on the way
   std::size_t min_patch_points_ = 1;
   Vec3 centre_;
-  double probe_range_ = 0.0;             // farthest a probe may be from centre_
+  double probe_range_ = 0.0;  // farthest a probe may be from centre_
   std::vector<SourceSetup> sources_;
   std::vector<SourceForce> forces_;
   std::vector<Vec3> weights_, effective_;
@@ -219,9 +219,9 @@ class Deformer {
   std::vector<Vec3> contact_points_;
   std::vector<std::uint32_t> neighbours_;
   std::vector<std::uint32_t> contact_neighbourhood_;  // every contact's bc points, contact by contact
-  std::vector<std::size_t> neighbourhood_begin_;     // where each probe's points start in it
-  std::vector<double> patch_area_scale_;             // per probe: patch points before thinning / after
-  double last_patch_scale_ = 1.0;                    // add_neighbourhood's thinning of its last patch
+  std::vector<std::size_t> neighbourhood_begin_;      // where each probe's points start in it
+  std::vector<double> patch_area_scale_;              // per probe: patch points before thinning / after
+  double last_patch_scale_ = 1.0;                     // add_neighbourhood's thinning of its last patch
 };
 
 }  // namespace sculpt::deform

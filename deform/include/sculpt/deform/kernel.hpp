@@ -65,25 +65,22 @@ Mat3 displacement_matrix(const KernelCoefficients& k, const Vec3& source, const 
 /// u(Q) = sum_k f_k U_kl(P, Q).
 Vec3 displacement(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point);
 /// grad(l, m) = d u_l / d Q_m.
-Mat3 displacement_gradient(const Kernel& kernel, const Vec3& source, const Vec3& force,
-                           const Vec3& point);
+Mat3 displacement_gradient(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point);
 /// sigma(Q) n with sigma = lambda tr(eps) I + 2 G eps built from the analytic gradient; works for
 /// both kernels and at nu = 0.5.
-Vec3 stress_traction(const Kernel& kernel, const Vec3& source, const Vec3& force,
-                     const Vec3& point, const Vec3& normal);
+Vec3 stress_traction(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point,
+                     const Vec3& normal);
 
 /// T_ij(P, Q, n) of MATH.md §2 for the Kelvin kernel: i is the force direction, j the traction
 /// component, so t = T^T f. Independent of G.
-Mat3 kelvin_traction_matrix(double poisson_ratio, const Vec3& source, const Vec3& point,
-                            const Vec3& normal);
+Mat3 kelvin_traction_matrix(double poisson_ratio, const Vec3& source, const Vec3& point, const Vec3& normal);
 /// t_j(Q, n) = sum_i f_i T_ij(P, Q, n).
-Vec3 kelvin_traction(double poisson_ratio, const Vec3& source, const Vec3& force,
-                     const Vec3& point, const Vec3& normal);
+Vec3 kelvin_traction(double poisson_ratio, const Vec3& source, const Vec3& force, const Vec3& point,
+                     const Vec3& normal);
 
 /// The traction the kernel prescribes: MATH.md §2's closed form for Kelvin, the stress of the
 /// analytic gradient for the regularized kernel.
-Vec3 traction(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point,
-              const Vec3& normal);
+Vec3 traction(const Kernel& kernel, const Vec3& source, const Vec3& force, const Vec3& point, const Vec3& normal);
 /// The 3x3 map f -> traction for one source (its transpose is the T of §2 for Kelvin).
 Mat3 traction_map(const Kernel& kernel, const Vec3& source, const Vec3& point, const Vec3& normal);
 

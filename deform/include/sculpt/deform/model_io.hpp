@@ -60,8 +60,7 @@ PointModel read_ply_from_buffer(std::string_view bytes, const std::string& name_
 void write_ply(const std::string& path, const PointModel& model,
                PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
 /// write_ply into a byte string instead of a file.
-std::string write_ply_to_buffer(const PointModel& model,
-                                PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
+std::string write_ply_to_buffer(const PointModel& model, PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
 
 /// Reads an OFF file (also NOFF, COFF, CNOFF and STOFF variants): vertices, and faces fanned
 /// into triangles. '#' starts a comment.

@@ -72,8 +72,8 @@ class PointIndex {
   /// largest neighbourhood, the model size at most) and never grown. Returns true when the
   /// result is complete; false when a match did not fit in out.capacity() or the model is not
   /// one this index indexes (then `out` is empty). Thread-safe (const).
-  bool within_radius(const PointModel& model, const Vec3& q, double radius,
-                     std::vector<std::uint32_t>& out, double drift = 0.0) const noexcept;
+  bool within_radius(const PointModel& model, const Vec3& q, double radius, std::vector<std::uint32_t>& out,
+                     double drift = 0.0) const noexcept;
 
   /// The min(k, size()) nearest snapshot points to q, closest first, with their squared
   /// distances (snapshot positions; a point at q itself is included). For set-up work such as

@@ -35,12 +35,10 @@ class Region {
  public:
   /// Validates the settings (throws std::invalid_argument naming the bad value) and reserves.
   /// For kIndices the border band is found here, once.
-  Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index,
-         double bc_radius);
+  Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index, double bc_radius);
 
   /// Collects the region and its border for this frame's contact points.
-  void build(const PointModel& model, const PointIndex& index, double drift,
-             std::span<const Vec3> contacts);
+  void build(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts);
 
   bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal; }
   /// Points that move, ascending (empty for a global region: then all points move).

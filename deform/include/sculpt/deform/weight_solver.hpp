@@ -59,15 +59,15 @@ struct SolverOptions {
 
 /// What every solve reports.
 struct SolveReport {
-  bool ok = false;             ///< false when there was nothing to solve or no finite solution
-  std::size_t rows = 0;        ///< stacked rows, 3 (m_D + m_F)
-  std::size_t unknowns = 0;    ///< 3 n
-  std::size_t rank = 0;        ///< numerical rank after truncation
-  double residual = 0.0;       ///< || A alpha - b || over the weighted rows
+  bool ok = false;                 ///< false when there was nothing to solve or no finite solution
+  std::size_t rows = 0;            ///< stacked rows, 3 (m_D + m_F)
+  std::size_t unknowns = 0;        ///< 3 n
+  std::size_t rank = 0;            ///< numerical rank after truncation
+  double residual = 0.0;           ///< || A alpha - b || over the weighted rows
   double relative_residual = 0.0;  ///< residual / ||b|| (0 when b = 0)
-  double condition = 0.0;      ///< sigma_max / sigma_min of the column-equilibrated system (inf if rank-deficient)
+  double condition = 0.0;          ///< sigma_max / sigma_min of the column-equilibrated system (inf if rank-deficient)
   double effective_condition = 0.0;  ///< sigma_max / smallest kept sigma
-  bool damped = false;         ///< Tikhonov fallback used
+  bool damped = false;               ///< Tikhonov fallback used
 };
 
 /// Solves for the weights without forming the normal equations: rows are rotated one at a time
@@ -81,9 +81,8 @@ class WeightSolver {
   /// Writes the effective force of each source to `effective` and the raw weights to
   /// `weights` (both sized like `sources`, at most kMaxSources).
   SolveReport solve(const Kernel& kernel, std::span<const SourceSetup> sources,
-                    std::span<const DisplacementCondition> displacements,
-                    std::span<const TractionCondition> tractions, std::span<Vec3> weights,
-                    std::span<Vec3> effective) const noexcept;
+                    std::span<const DisplacementCondition> displacements, std::span<const TractionCondition> tractions,
+                    std::span<Vec3> weights, std::span<Vec3> effective) const noexcept;
 
   const SolverOptions& options() const { return options_; }
 

@@ -18,23 +18,23 @@ struct Keyframe {
 
 struct FingerScript {
   std::uint8_t hand = 0;
-  std::uint8_t finger = 1;  ///< 0 thumb .. 4 little
+  std::uint8_t finger = 1;          ///< 0 thumb .. 4 little
   std::vector<Keyframe> keyframes;  ///< ascending time
 };
 
 struct SimConfig {
-  double rate_hz = 80.0;          ///< the thesis's glove ran at about 80 Hz
+  double rate_hz = 80.0;  ///< the thesis's glove ran at about 80 Hz
   std::uint64_t seed = 1;
-  double jitter_stddev = 0.0;     ///< Gaussian noise per coordinate, glove units
+  double jitter_stddev = 0.0;        ///< Gaussian noise per coordinate, glove units
   double dropout_probability = 0.0;  ///< chance that a sample is never sent
-  double latency_ms = 0.0;        ///< delay between a sample's device time and its delivery
-  bool repeat = false;            ///< loop the script; otherwise hold the last keyframe
-  double duration_s = 0.0;        ///< stop producing after this (0: the last keyframe's time, or forever with repeat)
+  double latency_ms = 0.0;           ///< delay between a sample's device time and its delivery
+  bool repeat = false;               ///< loop the script; otherwise hold the last keyframe
+  double duration_s = 0.0;  ///< stop producing after this (0: the last keyframe's time, or forever with repeat)
   std::vector<FingerScript> fingers;
 };
 
 struct SerialConfig {
-  std::string device;             ///< e.g. /dev/ttyUSB0 or a pty's /dev/pts/N
+  std::string device;  ///< e.g. /dev/ttyUSB0 or a pty's /dev/pts/N
   int baud = 921600;
   double reconnect_interval_ms = 200.0;
 };
@@ -43,7 +43,7 @@ struct UsbConfig {
   std::uint16_t vendor_id = 0;
   std::uint16_t product_id = 0;
   int interface_number = 0;
-  std::uint8_t endpoint = 0x81;   ///< IN endpoint
+  std::uint8_t endpoint = 0x81;      ///< IN endpoint
   std::uint8_t out_endpoint = 0x01;  ///< OUT endpoint for haptic frames
   enum class Transfer { kInterrupt, kBulk } transfer = Transfer::kInterrupt;
 };

@@ -24,8 +24,8 @@ struct CanFrame {
   std::array<std::uint8_t, 64> data{};
 };
 
-inline constexpr std::uint32_t kCanHandStride = 0x40;     ///< sample ids: base + hand * 0x40 + segment
-inline constexpr std::uint32_t kCanHapticOffset = 0x80;   ///< haptic ids: base + 0x80 + hand
+inline constexpr std::uint32_t kCanHandStride = 0x40;                   ///< sample ids: base + hand * 0x40 + segment
+inline constexpr std::uint32_t kCanHapticOffset = 0x80;                 ///< haptic ids: base + 0x80 + hand
 inline constexpr std::uint32_t kCanIdSpan = kCanHapticOffset + kHands;  ///< ids used from base
 inline constexpr std::uint32_t kCanMaxStandardId = 0x7FF;
 inline constexpr std::uint32_t kCanMaxExtendedId = 0x1FFFFFFF;
@@ -56,8 +56,7 @@ std::size_t can_segment_count(std::size_t message_size, bool fd) noexcept;
 /// Encodes `sample` into frames `out[0..n)` and returns n; returns 0 (writing nothing useful)
 /// when `out` is too small, the hand is not 0..1, the kind is unknown, or the ids would pass
 /// the 29-bit range.
-std::size_t encode_sample(const GloveSample& sample, std::uint32_t base_id, bool fd,
-                          std::span<CanFrame> out) noexcept;
+std::size_t encode_sample(const GloveSample& sample, std::uint32_t base_id, bool fd, std::span<CanFrame> out) noexcept;
 
 /// Encodes a haptic command (ids base + 0x80 + hand) as encode_sample does.
 std::size_t encode_haptic(const HapticCommand& command, std::uint32_t base_id, bool fd,
@@ -77,13 +76,13 @@ enum class CanFeedResult : std::uint8_t {
 /// Traffic and fault counts of one decoder. Each broken message counts one framing or CRC
 /// error, however many of its frames are lost.
 struct CanDecoderCounters {
-  std::uint64_t frames = 0;          ///< frames addressed to this decoder
-  std::uint64_t messages = 0;        ///< messages completed with a good CRC
+  std::uint64_t frames = 0;    ///< frames addressed to this decoder
+  std::uint64_t messages = 0;  ///< messages completed with a good CRC
   std::uint64_t framing_errors = 0;
   std::uint64_t crc_errors = 0;
   std::uint64_t duplicates = 0;
-  std::uint64_t discarded = 0;       ///< frames dropped after their message was already broken
-  std::uint64_t sequence_gaps = 0;   ///< samples missing by sequence number (sample decoder only)
+  std::uint64_t discarded = 0;      ///< frames dropped after their message was already broken
+  std::uint64_t sequence_gaps = 0;  ///< samples missing by sequence number (sample decoder only)
 };
 
 /// Reassembles one stream of segmented messages (one hand's samples, or one hand's haptic
@@ -116,11 +115,11 @@ class CanReassembler {
   std::size_t chunk_;
   State state_ = State::kIdle;
   std::array<std::uint8_t, kCanMaxMessage> buffer_{};
-  std::size_t message_size_ = 0;   // bytes expected, CRC included
-  std::size_t payload_size_ = 0;   // of the last completed message
+  std::size_t message_size_ = 0;  // bytes expected, CRC included
+  std::size_t payload_size_ = 0;  // of the last completed message
   unsigned next_index_ = 0;
   unsigned seq_bits_ = 0;
-  bool have_last_ = false;         // last_index_ names a segment still in buffer_
+  bool have_last_ = false;  // last_index_ names a segment still in buffer_
   unsigned last_index_ = 0;
   CanDecoderCounters counters_;
 };

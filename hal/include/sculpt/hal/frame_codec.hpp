@@ -57,8 +57,8 @@ std::size_t encode_sample_frame(const GloveSample& s, std::span<std::uint8_t> ou
 
 /// Encodes a host-to-glove haptic command, like encode_sample_frame. `sequence` is the
 /// sender's own frame counter, `device_time_us` the sender's clock.
-std::size_t encode_haptic_frame(const HapticCommand& c, std::uint32_t sequence,
-                                std::uint64_t device_time_us, std::span<std::uint8_t> out) noexcept;
+std::size_t encode_haptic_frame(const HapticCommand& c, std::uint32_t sequence, std::uint64_t device_time_us,
+                                std::span<std::uint8_t> out) noexcept;
 
 /// Stream decoder. Feed it bytes in any chunking; it delivers each valid frame once and counts
 /// every rejected one. After garbage it resynchronises on the next 0x00. Empty frames (0x00

@@ -29,7 +29,7 @@ enum class SampleKind : std::uint8_t {
 using FingerAngles = std::array<float, 4>;
 
 struct WristPose {
-  Point3f position{};                       ///< glove frame
+  Point3f position{};                            ///< glove frame
   std::array<float, 4> orientation{1, 0, 0, 0};  ///< unit quaternion w, x, y, z
 };
 
@@ -37,9 +37,9 @@ struct WristPose {
 struct GloveSample {
   std::uint8_t hand = 0;
   SampleKind kind = SampleKind::kPositions;
-  std::uint32_t sequence = 0;          ///< the device's counter; gaps are counted, not fatal
-  std::uint64_t device_time_us = 0;    ///< the device's own clock
-  std::int64_t receive_time_ns = 0;    ///< host CLOCK_MONOTONIC when the sample was decoded
+  std::uint32_t sequence = 0;        ///< the device's counter; gaps are counted, not fatal
+  std::uint64_t device_time_us = 0;  ///< the device's own clock
+  std::int64_t receive_time_ns = 0;  ///< host CLOCK_MONOTONIC when the sample was decoded
   std::array<Point3f, kJointPoints> joints{};
   std::array<FingerAngles, kFingers> angles{};
   WristPose wrist;

@@ -25,8 +25,8 @@ struct SourceCounters {
 
 /// The same counters as atomics, for the I/O thread to bump without locks.
 struct AtomicSourceCounters {
-  std::atomic<std::uint64_t> samples{0}, crc_errors{0}, framing_errors{0}, sequence_gaps{0},
-      overflows{0}, reconnects{0}, disconnects{0}, error_frames{0}, bus_off{0};
+  std::atomic<std::uint64_t> samples{0}, crc_errors{0}, framing_errors{0}, sequence_gaps{0}, overflows{0},
+      reconnects{0}, disconnects{0}, error_frames{0}, bus_off{0};
   SourceCounters snapshot() const noexcept;
 };
 

@@ -14,11 +14,11 @@ namespace sculpt::hal {
 /// rigid in the palm, so the chain starts at the MCP (knuckle) and the bones are the
 /// proximal, middle and distal phalanges. Metres.
 struct FingerBones {
-  Point3f base{};           ///< the chain's first joint, from the wrist, hand frame
-  float rest_yaw = 0.0f;    ///< direction at zero abduction: radians about +z from +x
-  float proximal = 0.0f;    ///< first bone (thumb: metacarpal)
-  float middle = 0.0f;      ///< second bone (thumb: proximal phalanx)
-  float distal = 0.0f;      ///< third bone, ending at the tip
+  Point3f base{};         ///< the chain's first joint, from the wrist, hand frame
+  float rest_yaw = 0.0f;  ///< direction at zero abduction: radians about +z from +x
+  float proximal = 0.0f;  ///< first bone (thumb: metacarpal)
+  float middle = 0.0f;    ///< second bone (thumb: proximal phalanx)
+  float distal = 0.0f;    ///< third bone, ending at the tip
 };
 
 /// Forward kinematics of a hand.

@@ -47,8 +47,7 @@ class LcmGloveSource final : public GloveSource {
   const char* name() const noexcept override { return "lcm"; }
 
  private:
-  static void on_message(const lcm::ReceiveBuffer* buffer, const std::string& channel,
-                         LcmGloveSource* self);
+  static void on_message(const lcm::ReceiveBuffer* buffer, const std::string& channel, LcmGloveSource* self);
   void handle(const void* data, std::uint32_t size) noexcept;
   void run() noexcept;
 

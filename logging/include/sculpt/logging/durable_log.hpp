@@ -24,7 +24,7 @@
 namespace lcm {
 class LogFile;
 struct LogEvent;
-}
+}  // namespace lcm
 
 namespace sculpt::logging {
 
@@ -56,12 +56,10 @@ class DurableLog {
   };
   struct Counters {
     std::array<KindCounters, kLogKinds> kinds{};  ///< indexed by LogKind
-    std::uint64_t write_errors = 0;  ///< encode or write failures (the record is lost)
-    std::uint64_t flushes = 0;       ///< fflush calls made (periodic, flush_now and stop)
+    std::uint64_t write_errors = 0;               ///< encode or write failures (the record is lost)
+    std::uint64_t flushes = 0;                    ///< fflush calls made (periodic, flush_now and stop)
 
-    const KindCounters& operator[](LogKind kind) const noexcept {
-      return kinds[static_cast<std::size_t>(kind)];
-    }
+    const KindCounters& operator[](LogKind kind) const noexcept { return kinds[static_cast<std::size_t>(kind)]; }
     std::uint64_t written() const noexcept;
     std::uint64_t dropped() const noexcept;
   };
@@ -132,8 +130,8 @@ class DurableLog {
   std::unique_ptr<lcm::LogFile> file_;  // owned by the thread while it runs
   base::SpscQueue<Entry> queue_;
   std::array<std::string, kLogKinds> channels_;  // made once so writes need not build names
-  std::unique_ptr<lcm::LogEvent> event_;        // reused by every write, like its channel string
-  Entry scratch_;  // the entry being written; a member because glove samples are large
+  std::unique_ptr<lcm::LogEvent> event_;         // reused by every write, like its channel string
+  Entry scratch_;                                // the entry being written; a member because glove samples are large
   std::int64_t event_number_ = 0;
   bool dirty_ = false;  // written since the last flush
   std::array<std::atomic<std::uint64_t>, kLogKinds> written_{};

@@ -102,9 +102,7 @@ class EventLogReader {
 /// has bytes left over after it.
 template <typename Message>
 bool decode(const LogEvent& event, Message& out, std::string& error) {
-  const auto where = [&] {
-    return event.channel + " event at byte offset " + std::to_string(event.offset) + ": ";
-  };
+  const auto where = [&] { return event.channel + " event at byte offset " + std::to_string(event.offset) + ": "; };
   const std::size_t size = event.data.size();
   if (size < 8) {
     error = where() + "payload of " + std::to_string(size) + " bytes is shorter than a type fingerprint";
@@ -128,8 +126,8 @@ bool decode(const LogEvent& event, Message& out, std::string& error) {
   }
   const int used = out.decode(event.data.data(), 0, static_cast<int>(size));
   if (used < 0) {
-    error = where() + "payload of " + std::to_string(size) + " bytes does not decode as " +
-            Message::getTypeName() + " (too short or malformed)";
+    error = where() + "payload of " + std::to_string(size) + " bytes does not decode as " + Message::getTypeName() +
+            " (too short or malformed)";
     return false;
   }
   if (static_cast<std::size_t>(used) != size) {

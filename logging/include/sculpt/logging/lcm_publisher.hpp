@@ -81,11 +81,10 @@ class LcmPublisher {
   void run() noexcept;
   std::size_t drain() noexcept;
   template <typename Message>
-  void send(const std::string& channel, const Message& message,
-            AtomicChannelCounters& counters) noexcept;
+  void send(const std::string& channel, const Message& message, AtomicChannelCounters& counters) noexcept;
 
   PublisherConfig config_;
-  lcm::LCM* lcm_ = nullptr;             // owned_ or the shared instance
+  lcm::LCM* lcm_ = nullptr;  // owned_ or the shared instance
   std::unique_ptr<lcm::LCM> owned_;
   base::SpscQueue<FingertipRecord> fingertips_;
   base::SpscQueue<CollisionRecord> collisions_;

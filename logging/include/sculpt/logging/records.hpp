@@ -52,7 +52,7 @@ struct CollisionRecord {
   std::int32_t contact_index = -1;
   Vec3d contact{};
   Vec3d source{};
-  Vec3d force{};            ///< F = P_f - A
+  Vec3d force{};  ///< F = P_f - A
   Vec3d weights{};
   Vec3d effective_force{};
   double bc_radius = 0.0;
@@ -67,10 +67,10 @@ struct CollisionRecord {
   ForceForm form = ForceForm::kScale;
   double residual = 0.0;
   double condition = 0.0;
-  std::int64_t frame_id = 0;     ///< shared by the events of one jointly solved frame
-  std::uint8_t frame_size = 1;   ///< how many events that frame has
-  double min_jacobian = 1.0;     ///< smallest det(I + grad u) the frame left
-  double miss = 0.0;             ///< probe depth across the surface after the solve
+  std::int64_t frame_id = 0;             ///< shared by the events of one jointly solved frame
+  std::uint8_t frame_size = 1;           ///< how many events that frame has
+  double min_jacobian = 1.0;             ///< smallest det(I + grad u) the frame left
+  double miss = 0.0;                     ///< probe depth across the surface after the solve
   std::array<std::int32_t, 8> guards{};  ///< per stability guard, in deform::for_each_guard order
 };
 

@@ -15,10 +15,10 @@ std::vector<double> color_bar_ticks(double max, int most = 6);
 
 /// What a colour bar shows.
 struct ColorBar {
-  double max = 0.0;         ///< the value at the top (0 at the bottom)
-  std::string title;        ///< above the bar
-  std::string unit;         ///< below it, then "max <value>"
-  int text_scale = 2;       ///< pixels per font unit
+  double max = 0.0;    ///< the value at the top (0 at the bottom)
+  std::string title;   ///< above the bar
+  std::string unit;    ///< below it, then "max <value>"
+  int text_scale = 2;  ///< pixels per font unit
 };
 
 /// The width draw_color_bar needs for `bar`'s texts and labels.

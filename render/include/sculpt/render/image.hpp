@@ -27,9 +27,7 @@ struct Image {
   Image(int width, int height, const Rgb& fill);
 
   std::uint8_t* at(int x, int y) { return pixels.data() + (static_cast<std::size_t>(y) * width + x) * 3; }
-  const std::uint8_t* at(int x, int y) const {
-    return pixels.data() + (static_cast<std::size_t>(y) * width + x) * 3;
-  }
+  const std::uint8_t* at(int x, int y) const { return pixels.data() + (static_cast<std::size_t>(y) * width + x) * 3; }
   bool contains(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
 
   /// Sets one pixel; outside the picture it does nothing, so callers may draw past the edges.

@@ -48,7 +48,7 @@ struct PictureInfo {
 /// a colour bar to the right: side by side for one view, a row of `before` above a row of
 /// `model` for several. A `model` without faces is drawn with `before`'s when it has some. Throws std::invalid_argument for a request
 /// out of range or models whose point counts differ, RenderError when no context can be made.
-Image render_picture(const deform::PointModel& model, const deform::PointModel* before,
-                     const PictureRequest& request, PictureInfo* info = nullptr);
+Image render_picture(const deform::PointModel& model, const deform::PointModel* before, const PictureRequest& request,
+                     PictureInfo* info = nullptr);
 
 }  // namespace sculpt::render

@@ -47,9 +47,8 @@ class FixedRateLoop {
   /// the start and readable through stats() after return.
   template <typename Tick>
   void run(Tick&& tick, const std::atomic<bool>& stop) noexcept {
-    static_assert(
-        std::is_nothrow_invocable_v<Tick&, std::uint64_t, std::int64_t>,
-        "FixedRateLoop: the tick must be callable as tick(uint64_t, int64_t) and noexcept");
+    static_assert(std::is_nothrow_invocable_v<Tick&, std::uint64_t, std::int64_t>,
+                  "FixedRateLoop: the tick must be callable as tick(uint64_t, int64_t) and noexcept");
     std::int64_t deadline = begin_run() + period_ns_;
     while (!stop.load(std::memory_order_acquire)) {
       sleep_until_ns(deadline);

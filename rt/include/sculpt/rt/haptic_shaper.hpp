@@ -12,10 +12,10 @@ namespace sculpt::rt {
 
 /// Scene [haptic] limits, in newtons and seconds (the glove's unit of length is the metre).
 struct HapticLimits {
-  double gain = 1.0;             ///< applied to the reaction before the clamp
-  double max_force = 4.0;        ///< N, largest force magnitude ever sent (a glove actuator's range)
-  double max_force_rate = 200.0; ///< N/s, fastest rise of a finger's force magnitude
-  double heartbeat_s = 0.1;      ///< longest silence towards a hand with no finger in contact
+  double gain = 1.0;              ///< applied to the reaction before the clamp
+  double max_force = 4.0;         ///< N, largest force magnitude ever sent (a glove actuator's range)
+  double max_force_rate = 200.0;  ///< N/s, fastest rise of a finger's force magnitude
+  double heartbeat_s = 0.1;       ///< longest silence towards a hand with no finger in contact
 
   /// Throws std::invalid_argument naming the bad limit.
   void validate() const;

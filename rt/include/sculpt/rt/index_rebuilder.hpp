@@ -46,8 +46,8 @@ class IndexRebuilder {
   deform::PointIndex fresh_;
   double drift_at_snapshot_ = 0.0;
   std::size_t points_per_tick_;
-  std::size_t copied_ = 0;   // points of the snapshot under way copied so far (loop only)
-  bool copying_ = false;     // a snapshot is being copied (loop only)
+  std::size_t copied_ = 0;  // points of the snapshot under way copied so far (loop only)
+  bool copying_ = false;    // a snapshot is being copied (loop only)
   std::uint64_t installed_ = 0;
   std::atomic<int> state_{kIdle};
   std::thread worker_;

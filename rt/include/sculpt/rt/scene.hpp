@@ -83,7 +83,7 @@ struct DeformScene {
   std::optional<double> delta_r;    ///< a free finger this close to the surface pins it
   deform::Precision precision = deform::Precision::kFloat;
   bool carry_normals = true;
-  double border_weight = 1.0;  ///< weight of the region's pinned band (localised regions only)
+  double border_weight = 1.0;           ///< weight of the region's pinned band (localised regions only)
   std::size_t max_patch_points = 1024;  ///< boundary-condition points per finger's patch, thinned beyond
 };
 
@@ -101,8 +101,8 @@ struct HeuristicScene {
 };
 
 struct GloveScene {
-  hal::GloveConfig config;   ///< backend and its settings; only the chosen backend's are read
-  double timeout_ms = 100.0; ///< a hand with no sample for this long is stale: forces released
+  hal::GloveConfig config;            ///< backend and its settings; only the chosen backend's are read
+  double timeout_ms = 100.0;          ///< a hand with no sample for this long is stale: forces released
   std::vector<std::uint8_t> hands;    ///< hands that act (0, 1), ascending
   std::vector<std::uint8_t> fingers;  ///< fingers that act (0 thumb .. 4 little), ascending
 };
@@ -144,8 +144,8 @@ enum class RealtimeMode { kOff, kTry, kRequire };
 struct LoopScene {
   double rate_hz = 1000.0;  ///< 50 .. 2000
   RealtimeMode realtime = RealtimeMode::kOff;
-  bool lock_memory = false; ///< mlockall
-  int cpu = -1;             ///< pin the loop thread to this CPU; -1 none
+  bool lock_memory = false;  ///< mlockall
+  int cpu = -1;              ///< pin the loop thread to this CPU; -1 none
 };
 
 struct LcmScene {
@@ -188,7 +188,6 @@ Scene load_scene(const std::string& path);
 /// against `base_dir`. Checks every key, type, range and combination that does not need the
 /// model itself; the model file is read (and its spacing found) when the station starts.
 /// @throw SceneError naming the first problem found.
-Scene parse_scene(std::string_view text, const std::string& path_for_errors,
-                  const std::string& base_dir);
+Scene parse_scene(std::string_view text, const std::string& path_for_errors, const std::string& base_dir);
 
 }  // namespace sculpt::rt

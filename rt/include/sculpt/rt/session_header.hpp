@@ -19,9 +19,9 @@ inline constexpr std::int32_t kSessionSchema = 1;
 
 struct SessionHeader {
   std::int32_t schema = kSessionSchema;
-  std::string version;     ///< the writer's project version
-  std::string scene_path;  ///< as given
-  std::string scene_text;  ///< the scene's TOML text
+  std::string version;                        ///< the writer's project version
+  std::string scene_path;                     ///< as given
+  std::string scene_text;                     ///< the scene's TOML text
   deform::ModelIdentity model;                ///< what the station sculpted
   std::optional<deform::ModelIdentity> full;  ///< a reduced-set session: the full model
   double reduced_ratio = 1.0;

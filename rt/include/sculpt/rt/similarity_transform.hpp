@@ -40,16 +40,16 @@ class SimilarityTransform {
 
   /// @throw std::invalid_argument for a non-finite value, scale <= 0, or a quaternion whose
   ///        norm differs from 1 by more than kUnitTolerance (within it, it is normalised).
-  static SimilarityTransform from_scale_rotation_translation(
-      double scale, const Quaternion& rotation, const std::array<double, 3>& translation);
+  static SimilarityTransform from_scale_rotation_translation(double scale, const Quaternion& rotation,
+                                                             const std::array<double, 3>& translation);
   /// @throw std::invalid_argument for a non-finite value, scale <= 0, or a zero axis with a
   ///        non-zero angle.
-  static SimilarityTransform from_scale_rotation_translation(
-      double scale, const AxisAngle& rotation, const std::array<double, 3>& translation);
+  static SimilarityTransform from_scale_rotation_translation(double scale, const AxisAngle& rotation,
+                                                             const std::array<double, 3>& translation);
   /// @throw std::invalid_argument for a non-finite value, scale <= 0, or a matrix that is not
   ///        a proper rotation within kOrthonormalTolerance (a reflection included).
-  static SimilarityTransform from_scale_rotation_translation(
-      double scale, const Matrix3& rotation, const std::array<double, 3>& translation);
+  static SimilarityTransform from_scale_rotation_translation(double scale, const Matrix3& rotation,
+                                                             const std::array<double, 3>& translation);
 
   /// s R p + t.
   std::array<double, 3> apply(const std::array<double, 3>& point) const noexcept;
@@ -68,8 +68,7 @@ class SimilarityTransform {
   Quaternion quaternion() const noexcept;
 
  private:
-  SimilarityTransform(double scale, const Matrix3& rotation,
-                      const std::array<double, 3>& translation) noexcept
+  SimilarityTransform(double scale, const Matrix3& rotation, const std::array<double, 3>& translation) noexcept
       : scale_(scale), rotation_(rotation), translation_(translation) {}
 
   double scale_ = 1.0;
@@ -78,8 +77,7 @@ class SimilarityTransform {
 };
 
 /// this(first(x)).
-inline SimilarityTransform operator*(const SimilarityTransform& second,
-                                     const SimilarityTransform& first) noexcept {
+inline SimilarityTransform operator*(const SimilarityTransform& second, const SimilarityTransform& first) noexcept {
   return second.compose(first);
 }
 

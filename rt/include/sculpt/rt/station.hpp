@@ -35,12 +35,12 @@ struct RegionPolicy {
 
 struct StationSettings {
   double rate_hz = 1000.0;
-  double glove_timeout_s = 0.1;  ///< older newest-sample than this: stale, every force released
+  double glove_timeout_s = 0.1;   ///< older newest-sample than this: stale, every force released
   std::vector<FingerId> fingers;  ///< the fingers that act, at most deform::kMaxSources
   bool filter_enabled = true;
   OneEuroParams filter;
-  double glove_rate_hz = 80.0;    ///< nominal sample rate, for the filter's first step
-  double delta_s = 0.0;           ///< Δs dead band, model units (applied after registration)
+  double glove_rate_hz = 80.0;  ///< nominal sample rate, for the filter's first step
+  double delta_s = 0.0;         ///< Δs dead band, model units (applied after registration)
   SimilarityTransform registration;
   hal::HandModel hand_model;
   RegionPolicy region;
@@ -50,10 +50,10 @@ struct StationSettings {
 
 /// Per finger, what the last tick saw.
 struct FingerState {
-  bool tracked = false;          ///< the glove has reported this finger
-  deform::Vec3 raw;              ///< glove frame
-  deform::Vec3 filtered;         ///< glove frame
-  deform::Vec3 registered;       ///< model frame
+  bool tracked = false;     ///< the glove has reported this finger
+  deform::Vec3 raw;         ///< glove frame
+  deform::Vec3 filtered;    ///< glove frame
+  deform::Vec3 registered;  ///< model frame
   bool in_contact = false;
   /// Glove frame, newtons: the surface's reaction on the finger over the stroke so far (by
   /// superposition, the sum of its frames' traction resultants), held while in contact.
@@ -68,15 +68,15 @@ struct TickReport {
   std::uint64_t tick = 0;
   GloveState glove = GloveState::kWaiting;
   double glove_age_ms = 0.0;
-  std::size_t samples = 0;        ///< glove samples taken this tick
-  bool frame = false;             ///< a collision frame ran
+  std::size_t samples = 0;  ///< glove samples taken this tick
+  bool frame = false;       ///< a collision frame ran
   std::size_t collisions = 0;
   std::size_t region_points = 0;
   double region_radius = 0.0;
   double deform_ns = 0.0;
   std::int64_t budget_ns = 0;
-  double min_jacobian = 1.0;     ///< of this tick's frame (1 without one)
-  deform::GuardCounts guards;    ///< the stability guards that acted this tick
+  double min_jacobian = 1.0;       ///< of this tick's frame (1 without one)
+  deform::GuardCounts guards;      ///< the stability guards that acted this tick
   std::uint64_t out_of_range = 0;  ///< fingertips dropped so far (cumulative, as in the totals)
 };
 
@@ -167,18 +167,18 @@ class Station {
   const deform::FrameReport* last_frame_ = &empty_frame_;
   double cost_per_point_force_ns_ = 0.0;  // measured, exponentially averaged
   HapticShaper shaper_;
-  std::array<bool, hal::kHands> hand_touching_{};         // a finger of the hand was in contact last tick
+  std::array<bool, hal::kHands> hand_touching_{};  // a finger of the hand was in contact last tick
   std::array<std::int64_t, hal::kHands> last_command_ns_{};
-  double newtons_per_model_area_ = 1.0;                   // (metres per model unit)^2
+  double newtons_per_model_area_ = 1.0;  // (metres per model unit)^2
   IndexRebuilder rebuilder_;
   StationRecorder* recorder_ = nullptr;
   std::span<const double> region_schedule_;
   std::int64_t first_tick_ns_ = -1;
   std::int64_t now_ns_ = 0;
   std::int64_t frame_id_ = 0;
-  std::vector<FingerId> probe_ids_;                  // the finger of each probe, for the recorder
+  std::vector<FingerId> probe_ids_;                   // the finger of each probe, for the recorder
   std::array<bool, deform::kMaxSources> accepted_{};  // per finger, this tick
-  double rebuild_drift_;  // ask for a new tree once the drift passes this
+  double rebuild_drift_;                              // ask for a new tree once the drift passes this
 };
 
 }  // namespace sculpt::rt

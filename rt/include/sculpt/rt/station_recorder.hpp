@@ -19,11 +19,11 @@ struct TickReport;
 /// One collision frame with what is needed to re-apply it without collision detection.
 struct FrameRecord {
   std::uint64_t tick = 0;
-  double time_s = 0.0;       ///< since the station started
+  double time_s = 0.0;        ///< since the station started
   std::int64_t frame_id = 0;  ///< counts the frames of this run
   const deform::FrameReport* report = nullptr;
   const deform::DeformSettings* settings = nullptr;  ///< kernel, material, form, mode, region in force
-  std::span<const FingerId> fingers;       ///< the finger of report->contacts[k] is fingers[k]
+  std::span<const FingerId> fingers;                 ///< the finger of report->contacts[k] is fingers[k]
   std::span<const deform::ProbeMotion> probes;
 };
 

@@ -23,10 +23,10 @@ struct StationSetup {
   /// "file", "from faces", "estimated (PCA)", "none"; "file (<describe(normal_report)>)" when
   /// check_normals repaired some of the file's normals.
   std::string normals_source;
-  deform::NormalReport normal_report;  ///< what check_normals did to the file's normals
-  deform::TypicalSpacing spacing;      ///< the model's length scale, and which statistic gave it
+  deform::NormalReport normal_report;      ///< what check_normals did to the file's normals
+  deform::TypicalSpacing spacing;          ///< the model's length scale, and which statistic gave it
   std::optional<Calibration> calibration;  ///< when the scene gave landmarks
-  std::vector<std::string> notes;      ///< defaults derived, for the user to see once
+  std::vector<std::string> notes;          ///< defaults derived, for the user to see once
   /// A reduced-set session (heuristic.reduced_ratio < 1): the full model's identity, taken
   /// before the reduction, so the session header can name the model the log transfers to.
   std::optional<deform::ModelIdentity> full_model;

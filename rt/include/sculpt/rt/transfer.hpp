@@ -101,8 +101,7 @@ TransferStats transfer(deform::PointModel& target, std::span<const logging::Coll
 /// or no finite solution), because replaying such a frame must not move anything either.
 /// `settings` must be the deformer's settings with the region radius that was in force.
 /// Returns the number of records appended.
-std::size_t append_frame_records(const deform::FrameReport& report,
-                                 const deform::DeformSettings& settings, std::int64_t frame_id,
-                                 std::int64_t tick, std::vector<logging::CollisionRecord>& out);
+std::size_t append_frame_records(const deform::FrameReport& report, const deform::DeformSettings& settings,
+                                 std::int64_t frame_id, std::int64_t tick, std::vector<logging::CollisionRecord>& out);
 
 }  // namespace sculpt::rt
