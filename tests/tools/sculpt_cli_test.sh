@@ -129,11 +129,17 @@ one_line_error "device refused by name" "zero.ply: cannot read: a character devi
 # the input keeps every byte, and no temporary file is left beside it.
 mkdir "$work/full"
 cp "$sphere" "$work/full/same.ply"
-expect_exit 1 "write fails half way" -- bash -c "trap '' XFSZ; ulimit -f 20; exec \"\$@\"" _ \
-  "$SCULPT" deform --model "$work/full/same.ply" --out "$work/full/same.ply" --contact 0,0,1.1:0,0,0.95
-one_line_error "failed write named" "same.ply: cannot write (File too large)"
-if cmp -s "$work/full/same.ply" "$sphere"; then ok "input intact after a failed write over it"; else bad "input changed by a failed write"; fi
-if [[ "$(ls -A "$work/full")" == "same.ply" ]]; then ok "no temporary file left"; else bad "left behind: $(ls -A "$work/full")"; fi
+if [[ -n "${TSAN_OPTIONS:-}" ]]; then
+  # ThreadSanitizer's runtime writes files of its own and dies of SIGBUS under a file-size
+  # limit, before our code runs: the Release and ASan passes check this case.
+  echo "skip write fails half way (ThreadSanitizer cannot run under ulimit -f)"
+else
+  expect_exit 1 "write fails half way" -- bash -c "trap '' XFSZ; ulimit -f 20; exec \"\$@\"" _ \
+    "$SCULPT" deform --model "$work/full/same.ply" --out "$work/full/same.ply" --contact 0,0,1.1:0,0,0.95
+  one_line_error "failed write named" "same.ply: cannot write (File too large)"
+  if cmp -s "$work/full/same.ply" "$sphere"; then ok "input intact after a failed write over it"; else bad "input changed by a failed write"; fi
+  if [[ "$(ls -A "$work/full")" == "same.ply" ]]; then ok "no temporary file left"; else bad "left behind: $(ls -A "$work/full")"; fi
+fi
 expect_exit 0 "--out over --model" -- "$SCULPT" deform --model "$work/full/same.ply" --out "$work/full/same.ply" --contact 0,0,1.1:0,0,0.95
 expect_exit 0 "deformed in place reads back" -- "$SCULPT" deform --model "$work/full/same.ply" --contact 0,0,3:0,0,2.9 --json "$work/report.json"
 expect_json "in-place result whole" "j['points'] == 3203"
