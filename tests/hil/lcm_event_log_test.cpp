@@ -51,6 +51,18 @@ std::map<std::string, std::size_t> count_channels(const fs::path& path) {
   return counts;
 }
 
+// Every payload on one channel, as bytes, in file order.
+std::multiset<std::string> payloads_on(const fs::path& path, const std::string& channel) {
+  std::multiset<std::string> payloads;
+  logging::EventLogReader reader(path.string());
+  logging::LogEvent event;
+  for (auto r = reader.next(event); r != logging::EventLogReader::Result::kEnd; r = reader.next(event)) {
+    if (r == logging::EventLogReader::Result::kEvent && event.channel == channel)
+      payloads.emplace(event.data.begin(), event.data.end());
+  }
+  return payloads;
+}
+
 void replace_all(std::string& text, const std::string& from, const std::string& to) {
   for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
     text.replace(at, from.size(), to);
@@ -103,11 +115,21 @@ TEST_F(EventLogHil, EveryCollisionIsInTheDurableLogAndOnTheLiveChannel) {
   EXPECT_EQ(durable.at(logging::kCollisionChannel), collisions);
   EXPECT_EQ(durable.at(logging::kTickChannel), r["ticks"].get<std::size_t>());
   EXPECT_EQ(r["recording"]["log"]["dropped"].get<int>(), 0);
-  const auto captured = count_channels(live);
-  ASSERT_TRUE(captured.count(logging::kCollisionChannel)) << "lcm-logger captured no collision";
-  EXPECT_EQ(captured.at(logging::kCollisionChannel), collisions);
+  // The live channel is UDP, which may drop a datagram on a loaded machine (the durable log is
+  // the record for that reason): every event captured live must be, byte for byte, one the
+  // durable log holds, and at most one in a hundred (or one) may be missing.
+  const auto in_log = payloads_on(dir_ / "sphere-squeeze.lcmlog", logging::kCollisionChannel);
+  const auto captured = payloads_on(live, logging::kCollisionChannel);
+  ASSERT_FALSE(captured.empty()) << "lcm-logger captured no collision";
+  std::size_t not_in_log = 0;
+  for (auto it = captured.begin(); it != captured.end(); it = captured.upper_bound(*it)) {
+    if (captured.count(*it) > in_log.count(*it)) not_in_log += captured.count(*it) - in_log.count(*it);
+  }
+  EXPECT_EQ(not_in_log, 0u) << "captured live but not in the durable log";
+  EXPECT_LE(captured.size(), collisions);
+  EXPECT_LE(collisions - std::min(collisions, captured.size()), std::max<std::size_t>(1, collisions / 100));
   std::printf("[ log ] %zu collisions: %zu in the durable log, %zu captured live by lcm-logger\n", collisions,
-              durable.at(logging::kCollisionChannel), captured.at(logging::kCollisionChannel));
+              durable.at(logging::kCollisionChannel), captured.size());
 }
 
 TEST_F(EventLogHil, AMinuteOfFiveFingersAtOneKilohertzLosesNothing) {

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -403,12 +404,20 @@ TEST(DurableLog, LcmLogplayerReplaysTheFile) {
   }
   if (!probed) GTEST_SKIP() << "multicast on " << url << " does not loop back here";
 
+  // Loopback UDP under a loaded CI machine may still drop a datagram (the durable log never
+  // depends on UDP for that reason), so one of three replays must arrive whole.
   const std::string command = "lcm-logplayer -l '" + url + "' '" + config.path + "' > /dev/null 2>&1";
-  std::thread player([&] { EXPECT_EQ(std::system(command.c_str()), 0); });
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (counts.total < session.channels.size() && std::chrono::steady_clock::now() < deadline) lcm.handleTimeout(20);
-  player.join();
-  while (lcm.handleTimeout(50) > 0) {
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    counts = Counts{};
+    std::thread player([&] { EXPECT_EQ(std::system(command.c_str()), 0); });
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (counts.total < session.channels.size() && std::chrono::steady_clock::now() < deadline) lcm.handleTimeout(20);
+    player.join();
+    while (lcm.handleTimeout(50) > 0) {
+    }
+    if (counts.total == session.channels.size()) break;
+    std::printf("replay %d: %zu of %zu messages arrived; replaying again\n", attempt + 1, counts.total,
+                session.channels.size());
   }
   EXPECT_EQ(counts.total, session.channels.size());
   EXPECT_EQ(counts.by_channel[kTickChannel], 200u);
