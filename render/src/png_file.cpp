@@ -7,7 +7,7 @@
 #define STB_IMAGE_WRITE_STATIC  // keep its symbols private to this library
 #include <stb_image_write.h>
 
-#include "atomic_file.hpp"
+#include "sculpt/deform/atomic_file.hpp"
 
 namespace sculpt::render {
 namespace {
@@ -25,7 +25,7 @@ void write_png(const std::string& path, const Image& image) {
     throw PngFileError(path + ": PNG encoding failed");
   }
   try {
-    write_file_atomically(path, bytes);
+    deform::write_file_atomically(path, bytes);
   } catch (const std::runtime_error& e) {
     throw PngFileError(e.what());
   }
