@@ -2,6 +2,8 @@
 // pictures it writes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -114,6 +116,68 @@ TEST_F(RenderCommand, UnreadableInputIsExitOneAndModelsOfDifferentSizesExitTwo) 
   deform::write_model(stacked, stack);
   expect_one_line_error(run({stacked, "--out", path("x.png")}), 1, "coincide");
   EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+// A real session: the bundled one-finger press run by the station, its durable log drawn over
+// its sculpted model. The log's collisions are all read, and they are drawn where the press was:
+// every pixel of the finger's overlay colour lies around the top of the sphere, on the axis the
+// finger came down. (The camera fits model and overlay together, so the two pictures are not
+// compared pixel by pixel.)
+TEST_F(RenderCommand, DrawsTheLogOfARecordedSessionWhereThePressWas) {
+  std::ifstream in(fs::path(SCULPT_SOURCE_DIR) / "scenes" / "sphere-press.toml");
+  std::string scene((std::istreambuf_iterator<char>(in)), {});
+  auto replace = [&](const std::string& from, const std::string& to) {
+    for (std::size_t at = scene.find(from); at != std::string::npos; at = scene.find(from, at + to.size())) {
+      scene.replace(at, from.size(), to);
+    }
+  };
+  replace("../data/", std::string(SCULPT_SOURCE_DIR) + "/data/");
+  replace("../out/", folder_.string() + "/");
+  std::ofstream(path("press.toml")) << scene;
+  ChildProcess station({SCULPT_BINARY, "run", path("press.toml"), "--duration", "3.6", "--quiet"}, path("run.txt"));
+  ASSERT_EQ(station.wait(std::chrono::seconds(60)), 0);
+  std::ifstream summary_file(path("sphere-press.json"));
+  const std::string summary((std::istreambuf_iterator<char>(summary_file)), {});
+  const std::size_t at = summary.find("\"collisions\":");
+  ASSERT_NE(at, std::string::npos) << summary;
+  const long collisions = std::stol(summary.substr(at + 13));
+  ASSERT_GT(collisions, 0);
+
+  // Looking along +y with z up: the press came down the z axis onto the top of the picture.
+  const std::vector<std::string> view = {"--view", "0,1,0", "--up", "z", "--size", "120x120"};
+  std::vector<std::string> plain = {path("sphere-press.ply"), "--out", path("plain.png")};
+  std::vector<std::string> drawn = {
+      path("sphere-press.ply"), "--out", path("drawn.png"), "--log", path("sphere-press.lcmlog"), "--arrow-scale", "3"};
+  plain.insert(plain.end(), view.begin(), view.end());
+  drawn.insert(drawn.end(), view.begin(), view.end());
+  ASSERT_EQ(run(plain).status, 0);
+  const CommandResult r = run(drawn);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find(": " + std::to_string(collisions) + " collision events"), std::string::npos)
+      << "every collision of the session (" << collisions << ") is read: " << r.output;
+
+  // The index finger's overlay colour is a strong blue (0.15, 0.45, 0.95); the clay has none.
+  auto blue_pixels = [](const render::Image& image, std::size_t& near_top_axis) {
+    std::size_t count = 0;
+    near_top_axis = 0;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const std::uint8_t* c = image.at(x, y);
+        if (!(c[2] > 150 && c[2] > c[0] + 60 && c[2] > c[1] + 40)) continue;
+        ++count;
+        near_top_axis += y < image.height / 3 && std::abs(x - image.width / 2) < image.width / 8;
+      }
+    }
+    return count;
+  };
+  const render::Image plain_image = read_png(path("plain.png")), drawn_image = read_png(path("drawn.png"));
+  ASSERT_EQ(plain_image.width, 120);
+  ASSERT_EQ(drawn_image.width, 120);
+  std::size_t plain_near = 0, drawn_near = 0;
+  EXPECT_EQ(blue_pixels(plain_image, plain_near), 0u) << "the model alone has no overlay colour";
+  const std::size_t blue = blue_pixels(drawn_image, drawn_near);
+  EXPECT_GT(blue, 20u) << "the probes and arrows are drawn";
+  EXPECT_EQ(drawn_near, blue) << "all of them around the top of the sphere, on the axis the finger came down";
 }
 
 }  // namespace
