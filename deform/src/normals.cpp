@@ -194,20 +194,23 @@ void orient_normals(PointModel& model, const NormalEstimation& options) {
   write_normals(model, normals);
 }
 
-void compute_normals_from_faces(PointModel& model) {
+FaceOrientation compute_normals_from_faces(PointModel& model) {
   const std::size_t n = model.size();
   const std::vector<std::uint32_t>& tri = model.triangles;
   if (tri.size() % 3 != 0) {
     throw std::invalid_argument("compute_normals_from_faces: triangle index count " + std::to_string(tri.size()) +
                                 " is not a multiple of 3");
   }
-  std::vector<Vec3> normals(n);
   for (std::size_t t = 0; t < tri.size(); t += 3) {
-    const std::uint32_t a = tri[t], b = tri[t + 1], c = tri[t + 2];
-    if (a >= n || b >= n || c >= n) {
+    if (tri[t] >= n || tri[t + 1] >= n || tri[t + 2] >= n) {
       throw std::invalid_argument("compute_normals_from_faces: triangle " + std::to_string(t / 3) +
                                   " refers to a point out of range");
     }
+  }
+  const FaceOrientation wound = orient_faces(model);
+  std::vector<Vec3> normals(n);
+  for (std::size_t t = 0; t < tri.size(); t += 3) {
+    const std::uint32_t a = tri[t], b = tri[t + 1], c = tri[t + 2];
     const Vec3 pa = model.position(a);
     // Twice the face's area along its normal: summing these weighs faces by area.
     const Vec3 face = cross(model.position(b) - pa, model.position(c) - pa);
@@ -224,12 +227,13 @@ void compute_normals_from_faces(PointModel& model) {
   }
   if (faceless.size() == n) {
     estimate_normals(model);
-    return;
+    return wound;
   }
   write_normals(model, normals);
   // A faceless point (a stray vertex, an unmeshed patch) takes its plane from all nearby
   // points and its side from the closest point whose side the mesh has already settled.
   reestimate_normals(model, faceless);
+  return wound;
 }
 
 void reestimate_normals(PointModel& model, const std::vector<std::uint32_t>& points) {
@@ -275,13 +279,11 @@ void reestimate_normals(PointModel& model, const std::vector<std::uint32_t>& poi
   }
 }
 
-void ensure_normals(PointModel& model, bool force) {
-  if (model.has_normals() && !force) return;
-  if (!model.triangles.empty()) {
-    compute_normals_from_faces(model);
-  } else {
-    estimate_normals(model);
-  }
+FaceOrientation ensure_normals(PointModel& model, bool force) {
+  if (model.has_normals() && !force) return {};
+  if (!model.triangles.empty()) return compute_normals_from_faces(model);
+  estimate_normals(model);
+  return {};
 }
 
 }  // namespace sculpt::deform

@@ -21,6 +21,17 @@ std::string describe(const char* key, double value, double factor) {
   return buffer;
 }
 
+// "from faces", and what their winding needed, so that a rewound export is never silent.
+std::string from_faces(const deform::FaceOrientation& wound, const deform::PointModel& m) {
+  std::string text = "from faces";
+  if (wound.turned > 0) {
+    text += " (" + std::to_string(wound.turned) + " of " + std::to_string(m.triangles.size() / 3) +
+            " rewound to agree with their neighbours)";
+  }
+  if (wound.conflicts > 0) text += " (" + std::to_string(wound.conflicts) + " edges with no consistent winding)";
+  return text;
+}
+
 void load_normals(StationSetup& s, const Scene& scene) {
   deform::PointModel& m = s.model;
   switch (scene.model.normals) {
@@ -32,8 +43,7 @@ void load_normals(StationSetup& s, const Scene& scene) {
       if (m.triangles.empty()) {
         throw std::invalid_argument("model.normals = \"faces\" but " + scene.model.path + " has no faces");
       }
-      deform::compute_normals_from_faces(m);
-      s.normals_source = "from faces";
+      s.normals_source = from_faces(deform::compute_normals_from_faces(m), m);
       return;
     case NormalsSource::kPca:
       deform::estimate_normals(m);
@@ -46,8 +56,12 @@ void load_normals(StationSetup& s, const Scene& scene) {
         s.normals_source = changed.empty() ? "file" : "file (" + changed + ")";
         return;
       }
-      s.normals_source = m.triangles.empty() ? "estimated (PCA)" : "from faces";
-      deform::ensure_normals(m);
+      if (m.triangles.empty()) {
+        deform::estimate_normals(m);
+        s.normals_source = "estimated (PCA)";
+      } else {
+        s.normals_source = from_faces(deform::compute_normals_from_faces(m), m);
+      }
       return;
   }
 }

@@ -382,15 +382,17 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
     deform::PointModel scan = deform::read_model(options.scan_path);
     deform::check_normals(scan, deform::NormalPolicy::kReestimate, options.scan_path);
     deform::ensure_normals(scan);  // the deformer needs normals; the oracle never reads them
-    // This export's faces are wound inconsistently (about half its face normals point inward),
-    // which no deformer can survive: the sweep tests the core on consistently oriented normals
-    // and says how many it turned.
+    // This export is a hollow shell: an inner wall about 0.06 inside the outer one, wound
+    // consistently toward the cavity (a ray from the centre crosses an inward-facing face, then
+    // an outward-facing one, in every direction). The sweep's oracle and pushes take the bust
+    // as a solid, so its normals are turned to one outside (the inner wall's flip) and the
+    // count is printed.
     const deform::PointModel as_read = scan;
     deform::orient_normals(scan);
     std::size_t flipped = 0;
     for (std::size_t i = 0; i < scan.size(); ++i) flipped += dot(scan.normal(i), as_read.normal(i)) < 0.0;
     if (flipped > 0) {
-      std::fprintf(stderr, "check: %s: %zu of %zu face normals turned by consistent orientation\n",
+      std::fprintf(stderr, "check: %s: %zu of %zu normals turned to one outside (the shell's inner wall)\n",
                    options.scan_path.c_str(), flipped, scan.size());
     }
     const std::size_t top = highest_along(scan, {0, 1, 0});

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "sculpt/deform/face_orientation.hpp"
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/deform/vec3.hpp"
 
@@ -20,7 +21,9 @@ namespace sculpt::deform {
 /// faces. If no point gets a face normal at all, this is estimate_normals(model).
 /// Replaces any normals the model had. Throws std::invalid_argument on a triangle index out of
 /// range or an index count that is not a multiple of 3.
-void compute_normals_from_faces(PointModel& model);
+/// The faces are first wound consistently (orient_faces(), which rewrites model.triangles), so
+/// the side is the surface's, not each face's; what that turned is returned.
+FaceOrientation compute_normals_from_faces(PointModel& model);
 
 /// Options for estimate_normals() and orient_normals().
 struct NormalEstimation {
@@ -54,7 +57,8 @@ void orient_normals(PointModel& model, const NormalEstimation& options = {});
 void reestimate_normals(PointModel& model, const std::vector<std::uint32_t>& points);
 
 /// Gives the model normals: from faces if it has triangles, PCA (default options) otherwise.
-/// A no-op if it already has normals, unless `force`.
-void ensure_normals(PointModel& model, bool force = false);
+/// A no-op if it already has normals, unless `force`. Returns what winding the faces needed
+/// (nothing when the normals did not come from faces).
+FaceOrientation ensure_normals(PointModel& model, bool force = false);
 
 }  // namespace sculpt::deform
