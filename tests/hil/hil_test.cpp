@@ -26,7 +26,6 @@
 #include <thread>
 #include <vector>
 
-#include "../../hal/src/cobs.hpp"
 #include "child_process.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/hal/frame_codec.hpp"
@@ -83,20 +82,20 @@ void write_all(int fd, const std::uint8_t* data, std::size_t n) {
   }
 }
 
-// A frame whose payload was changed after its checksum was computed: whole, but corrupt.
+// A frame whose payload was changed after its checksum was computed: whole, but corrupt. In
+// COBS each code byte says how far the next one is and every other byte is payload, so turning
+// a payload byte into another non-zero value keeps the framing and breaks only the CRC.
 std::vector<std::uint8_t> bad_crc_frame() {
   hal::GloveSample s;
   for (auto& j : s.joints) j = {0.25f, 0.5f, 3.0f};  // far from the model: harmless if accepted
-  std::uint8_t encoded[hal::kMaxFrameBytes];
-  const std::size_t n = hal::encode_sample_frame(s, encoded);
-  std::uint8_t body[hal::kMaxFrameBytes];
-  const std::ptrdiff_t m = hal::cobs_decode({encoded, n - 1}, body);
-  body[40] ^= 0x10;
-  std::vector<std::uint8_t> out(hal::kMaxFrameBytes);
-  const std::size_t k = hal::cobs_encode({body, static_cast<std::size_t>(m)}, out);
-  out.resize(k);
-  out.push_back(0);
-  return out;
+  std::vector<std::uint8_t> frame(hal::kMaxFrameBytes);
+  frame.resize(hal::encode_sample_frame(s, frame));
+  std::vector<bool> code(frame.size(), false);
+  for (std::size_t at = 0; at + 1 < frame.size(); at += frame[at]) code[at] = true;
+  std::size_t at = 41;  // in the joints: a body byte the decoder reads
+  while (code[at]) ++at;
+  frame[at] = static_cast<std::uint8_t>((frame[at] ^ 0x10) != 0 ? frame[at] ^ 0x10 : frame[at] ^ 0x20);
+  return frame;
 }
 
 TEST(HardwareInTheLoop, SerialThroughAFaultyLineKeepsTheStationRunning) {
