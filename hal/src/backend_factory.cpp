@@ -2,19 +2,19 @@
 
 #include <stdexcept>
 
-#include "sculpt/hal/serial_glove_source.hpp"
-#include "sculpt/hal/serial_haptic_sink.hpp"
-#include "sculpt/hal/sim_glove_source.hpp"
+#include "serial_glove_source.hpp"
+#include "serial_haptic_sink.hpp"
+#include "sim_glove_source.hpp"
 #if SCULPT_HAS_USB
-#include "sculpt/hal/usb_glove_source.hpp"
+#include "usb_glove_source.hpp"
 #endif
 #if SCULPT_HAS_CAN
-#include "sculpt/hal/can_glove_source.hpp"
-#include "sculpt/hal/can_haptic_sink.hpp"
+#include "can_glove_source.hpp"
+#include "can_haptic_sink.hpp"
 #endif
 #if SCULPT_HAS_LCM
-#include "sculpt/hal/lcm_glove_source.hpp"
-#include "sculpt/hal/lcm_haptic_sink.hpp"
+#include "lcm_glove_source.hpp"
+#include "lcm_haptic_sink.hpp"
 #endif
 
 namespace sculpt::hal {
@@ -71,5 +71,11 @@ std::unique_ptr<HapticSink> make_haptic_sink(const HapticConfig& c) {
   }
   throw std::invalid_argument("unknown haptic sink");
 }
+
+#if SCULPT_HAS_LCM
+std::unique_ptr<GloveSource> make_lcm_glove_source(lcm::LCM& bus, const LcmConfig& config, std::size_t queue_capacity) {
+  return std::make_unique<LcmGloveSource>(bus, config, queue_capacity);
+}
+#endif
 
 }  // namespace sculpt::hal

@@ -1,4 +1,4 @@
-#include "sculpt/hal/can_glove_source.hpp"
+#include "can_glove_source.hpp"
 
 #include "sculpt/base/clock.hpp"
 

@@ -1,4 +1,4 @@
-#include "sculpt/hal/can_haptic_sink.hpp"
+#include "can_haptic_sink.hpp"
 
 #include "sculpt/base/clock.hpp"
 
@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sculpt/hal/can_glove_source.hpp"
+#include "can_glove_source.hpp"
 
 namespace sculpt::hal {
 namespace {

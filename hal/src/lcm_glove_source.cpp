@@ -1,4 +1,4 @@
-#include "sculpt/hal/lcm_glove_source.hpp"
+#include "lcm_glove_source.hpp"
 
 #include "sculpt/base/clock.hpp"
 

@@ -1,4 +1,4 @@
-#include "sculpt/hal/lcm_haptic_sink.hpp"
+#include "lcm_haptic_sink.hpp"
 
 #include <array>
 #include <stdexcept>

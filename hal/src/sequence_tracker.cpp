@@ -1,4 +1,4 @@
-#include "sculpt/hal/sequence_tracker.hpp"
+#include "sequence_tracker.hpp"
 
 namespace sculpt::hal {
 

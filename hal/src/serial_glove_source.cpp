@@ -1,4 +1,4 @@
-#include "sculpt/hal/serial_glove_source.hpp"
+#include "serial_glove_source.hpp"
 
 #include "sculpt/base/clock.hpp"
 

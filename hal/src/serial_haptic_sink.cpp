@@ -1,4 +1,4 @@
-#include "sculpt/hal/serial_haptic_sink.hpp"
+#include "serial_haptic_sink.hpp"
 
 #include "sculpt/base/clock.hpp"
 

@@ -1,4 +1,4 @@
-#include "sculpt/hal/sim_glove_source.hpp"
+#include "sim_glove_source.hpp"
 
 #include "sculpt/base/clock.hpp"
 

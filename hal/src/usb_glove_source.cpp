@@ -1,4 +1,4 @@
-#include "sculpt/hal/usb_glove_source.hpp"
+#include "usb_glove_source.hpp"
 
 #include "sculpt/base/clock.hpp"
 

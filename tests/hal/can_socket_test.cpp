@@ -19,8 +19,8 @@
 #include <thread>
 
 #include "sculpt/hal/can_frame_codec.hpp"
-#include "sculpt/hal/can_glove_source.hpp"
-#include "sculpt/hal/can_haptic_sink.hpp"
+#include "can_glove_source.hpp"
+#include "can_haptic_sink.hpp"
 
 namespace sculpt::hal {
 namespace {

@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "../../hal/src/cobs.hpp"  // private to the library; its unit tests live here
+#include "cobs.hpp"  // private to the library (hal/src): its unit tests live here
 
 namespace sculpt::hal {
 namespace {

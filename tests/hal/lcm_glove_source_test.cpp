@@ -16,7 +16,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "sculpt/hal/lcm_glove_source.hpp"
+#include "lcm_glove_source.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt_lcm/haptic_command_t.hpp"
 

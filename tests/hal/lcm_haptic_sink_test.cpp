@@ -11,7 +11,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "sculpt/hal/lcm_haptic_sink.hpp"
+#include "lcm_haptic_sink.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/base/clock.hpp"
 

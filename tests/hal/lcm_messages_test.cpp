@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sculpt/hal/lcm_messages.hpp"
+#include "support/lcm_round_trip.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -35,13 +36,6 @@ hal::GloveSample make_sample(hal::SampleKind kind) {
   return s;
 }
 
-template <typename Message>
-std::vector<std::uint8_t> encode(const Message& m) {
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
-  EXPECT_EQ(m.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
-  return bytes;
-}
-
 void expect_same(const hal::GloveSample& a, const hal::GloveSample& b) {
   EXPECT_EQ(a.hand, b.hand);
   EXPECT_EQ(a.kind, b.kind);
@@ -59,11 +53,8 @@ TEST(LcmGloveMessages, GloveSampleRoundTripsThroughTheWireForBothKinds) {
     sculpt_lcm::glove_sample_t message{};
     to_lcm(sent, 1'700'000'000'000'000, message);
     EXPECT_EQ(message.utime, 1'700'000'000'000'000);
-    const auto bytes = encode(message);
-    sculpt_lcm::glove_sample_t decoded{};
-    ASSERT_EQ(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
     hal::GloveSample received;
-    ASSERT_TRUE(from_lcm(decoded, received));
+    ASSERT_TRUE(test::lcm_round_trip(message, received));
     expect_same(sent, received);
     EXPECT_EQ(received.receive_time_ns, 0);  // the receiver's clock, not the wire's
   }
@@ -116,11 +107,8 @@ TEST(LcmGloveMessages, HapticCommandRoundTripsThroughTheWire) {
   sculpt_lcm::haptic_command_t message{};
   to_lcm(sent, 42, message);
   EXPECT_EQ(message.utime, 42);
-  const auto bytes = encode(message);
-  sculpt_lcm::haptic_command_t decoded{};
-  ASSERT_EQ(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
   hal::HapticCommand received;
-  ASSERT_TRUE(from_lcm(decoded, received));
+  ASSERT_TRUE(test::lcm_round_trip(message, received));
   EXPECT_EQ(received.hand, sent.hand);
   EXPECT_EQ(received.tick, sent.tick);
   EXPECT_EQ(received.active_mask, sent.active_mask);
@@ -157,7 +145,7 @@ TEST(LcmGloveMessages, HapticCommandRejectsEachInvalidField) {
 TEST(LcmGloveMessages, TruncatedAndCorruptedBytesNeverCrash) {
   sculpt_lcm::glove_sample_t message{};
   to_lcm(make_sample(hal::SampleKind::kAngles), 7, message);
-  const auto bytes = encode(message);
+  const auto bytes = test::lcm_encode(message);
   for (std::size_t n = 0; n < bytes.size(); ++n) {
     sculpt_lcm::glove_sample_t decoded{};
     EXPECT_LT(decoded.decode(bytes.data(), 0, static_cast<int>(n)), 0) << "truncated to " << n;

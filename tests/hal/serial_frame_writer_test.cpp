@@ -23,9 +23,9 @@
 #include <vector>
 
 #include "pty_pair.hpp"
-#include "sculpt/hal/serial_glove_source.hpp"
+#include "serial_glove_source.hpp"
 #include "sculpt/hal/frame_codec.hpp"
-#include "sculpt/hal/serial_haptic_sink.hpp"
+#include "serial_haptic_sink.hpp"
 
 namespace sculpt::hal {
 namespace {

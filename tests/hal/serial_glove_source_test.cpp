@@ -2,7 +2,7 @@
 // end) and the source opens the slave through a symlink, so unplugging and replugging is
 // closing the pty and re-pointing the link. Also the sequence tracker it counts gaps with.
 
-#include "sculpt/hal/serial_glove_source.hpp"
+#include "serial_glove_source.hpp"
 
 #include <gtest/gtest.h>
 #include <pty.h>
@@ -24,7 +24,7 @@
 
 #include "pty_pair.hpp"
 #include "sculpt/hal/frame_codec.hpp"
-#include "sculpt/hal/sequence_tracker.hpp"
+#include "sequence_tracker.hpp"
 
 namespace sculpt::hal {
 namespace {

@@ -2,7 +2,7 @@
 // overflows and dropouts counted. Time is only checked as a lower bound (a sample is never
 // early) or for gross failure.
 
-#include "sculpt/hal/sim_glove_source.hpp"
+#include "sim_glove_source.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // test. Those need the device, or a USB gadget (dummy_hcd + a FunctionFS glove), in a
 // hardware-in-the-loop run.
 
-#include "sculpt/hal/usb_glove_source.hpp"
+#include "usb_glove_source.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "sculpt/deform/generators.hpp"
-#include "sculpt/hal/lcm_glove_source.hpp"
+#include "sculpt/hal/backend_factory.hpp"
 #include "sculpt/hal/sim_script.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
@@ -20,7 +20,7 @@ TEST(LcmMemqStation, ScriptedPressArrivesOverMemqAndDeformsTheSphere) {
   lcm::LCM bus("memq://");
   ASSERT_TRUE(bus.good());
   hal::LcmConfig config;
-  auto glove = std::make_unique<hal::LcmGloveSource>(bus, config, 256);
+  auto glove = hal::make_lcm_glove_source(bus, config, 256);
   deform::PointModel sphere = deform::make_sphere();
   const deform::PointModel before = sphere;
   StationSettings settings;

@@ -11,7 +11,7 @@
 
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/glove_source.hpp"
-#include "sculpt/hal/sequence_tracker.hpp"
+#include "sequence_tracker.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 
 namespace lcm {

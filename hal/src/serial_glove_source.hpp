@@ -14,7 +14,7 @@
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/frame_codec.hpp"
 #include "sculpt/hal/glove_source.hpp"
-#include "sculpt/hal/sequence_tracker.hpp"
+#include "sequence_tracker.hpp"
 #include "sculpt/hal/serial_port.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 
