@@ -13,6 +13,7 @@
 #include "check/case_run.hpp"
 #include "check/check_cases.hpp"
 #include "commands.hpp"
+#include "guard_report.hpp"
 #include "json_report.hpp"
 #include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
@@ -31,8 +32,6 @@ json case_json(const check::CaseResult& r) {
   const check::CaseSpec& c = *r.spec;
   const check::Metrics& m = r.metrics;
   const check::CaseSettings& s = c.settings;
-  json guards = json::object();
-  deform::for_each_guard(m.guards, [&](const char* name, std::uint32_t count) { guards[name] = count; });
   return {{"name", c.name},
           {"group", c.group},
           {"stroke", c.stroke},
@@ -56,7 +55,7 @@ json case_json(const check::CaseResult& r) {
           {"min_jacobian", number(m.min_jacobian)},
           {"max_miss", number(m.max_miss)},
           {"deepest_after", number(m.deepest)},
-          {"guards", guards},
+          {"guards", guards_json(m.guards)},
           {"invariants",
            {{"G", optional_number(r.g_deviation)},
             {"scale", optional_number(r.scale_deviation)},
@@ -85,13 +84,8 @@ void print_line(std::FILE* out, const check::CaseResult& r) {
   if (any_dev) std::snprintf(devtext, sizeof devtext, "%.1e", dev);
   std::fprintf(out, "%-62s %9s %3u %3u %3u %8.3g %8.2e %8s ", r.spec->name.c_str(), frames, m.non_finite,
                m.probe_inside, m.passed_through, m.min_jacobian, m.max_miss, devtext);
-  bool any = false;
-  deform::for_each_guard(m.guards, [&](const char* name, std::uint32_t count) {
-    if (count == 0) return;
-    std::fprintf(out, " %s=%u", name, count);
-    any = true;
-  });
-  if (!any) std::fprintf(out, " -");
+  const std::string guards = acted_guards(m.guards, '=');
+  std::fprintf(out, "%s", guards.empty() ? " -" : guards.c_str());
   if (r.failures.empty()) {
     std::fprintf(out, "  ok\n");
   } else {

@@ -10,7 +10,9 @@
 
 #include "bad_normals_option.hpp"
 #include "commands.hpp"
+#include "guard_report.hpp"
 #include "json_report.hpp"
+#include "output_paths.hpp"
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
@@ -88,14 +90,16 @@ class DeformCommand final : public Command {
                                   "Δr: a free finger this close pins its surface [1.5 x typical spacing]");
     region_option_ =
         sub_->add_option("--region", region_radius_, "Move only points within this radius of a contact (default: all)");
-    sub_->add_option("--border-weight", border_weight_, "Weight of the region's pinned band against a contact")
-        ->default_val(1.0);
+    // The band exists only around a region: without --region the weight would go unused.
+    sub_->add_option("--border-weight", border_weight_, "With --region: weight of its pinned band against a contact")
+        ->default_val(1.0)
+        ->needs(region_option_);
     reference_option_ = sub_->add_option("--reference", reference_text_,
                                          "X,Y,Z point known to be outside (for models without normals)");
     sub_->add_flag("--double", use_double_, "Evaluate the per-point loop in double instead of float");
-    sub_->add_option("--encoding", encoding_, "ascii | binary | binary_big_endian for a .ply output")
-        ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))
-        ->default_val("binary");
+    encoding_option_ = sub_->add_option("--encoding", encoding_, "ascii | binary | binary_big_endian for a .ply output")
+                           ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))
+                           ->default_val("binary");
     sub_->add_option("--json", json_path_, "Also write the report as JSON here ('-' for stdout)");
     bad_normals_.add_to(*sub_);
   }
@@ -143,6 +147,11 @@ class DeformCommand final : public Command {
       positive(dd_option_, delta_d_, "--delta-d");
       positive(region_option_, region_radius_, "--region");
       if (dr_option_->count() && !(delta_r_ >= 0.0)) throw std::invalid_argument("--delta-r must be >= 0");
+      // .off and .xyz have one encoding each: a PLY encoding asked for them would be ignored.
+      if (encoding_option_->count() && lower_extension(out_path_) != ".ply") {
+        throw std::invalid_argument("--encoding applies only to a .ply --out" +
+                                    (out_path_.empty() ? std::string(" (no --out given)") : ", not " + out_path_));
+      }
       if (!(border_weight_ >= 0.0)) throw std::invalid_argument("--border-weight must be >= 0");
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt deform: error: " << e.what() << "\n";
@@ -173,6 +182,12 @@ class DeformCommand final : public Command {
     // The length scale first: without one (all points coincide) nothing below means anything,
     // and the fault is the file's, so it is reported as the file's.
     const deform::TypicalSpacing spacing = file_spacing(model);
+    // The reference point stands in for missing normals (thesis 3.2): with the file's normals it
+    // would be ignored.
+    if (reference && model.has_normals()) {
+      throw std::invalid_argument("--reference is not used: " + model_path_ +
+                                  " has normals, and a reference point only replaces missing ones");
+    }
     std::string normals_source = model.has_normals() ? "file" : "none";
     if (!model.has_normals() && !reference) {
       normals_source = model.triangles.empty() ? "estimated (PCA)" : "from faces";
@@ -308,8 +323,6 @@ class DeformCommand final : public Command {
       }
       contacts.push_back(entry);
     }
-    json guards = json::object();
-    deform::for_each_guard(r.guards, [&](const char* name, std::uint32_t count) { guards[name] = count; });
     const auto& k = s.kernel;
     return {{"model", model_path_},
             {"points", model.size()},
@@ -341,7 +354,7 @@ class DeformCommand final : public Command {
             {"rejected", r.rejected},
             {"min_jacobian", r.min_jacobian},
             {"max_miss", r.max_miss},
-            {"guards", guards}};
+            {"guards", guards_json(r.guards)}};
   }
 
   void print_summary(const deform::PointModel& model, const deform::DeformSettings& s,
@@ -380,13 +393,8 @@ class DeformCommand final : public Command {
         r.max_contact_displacement > 0 ? r.max_border_displacement / r.max_contact_displacement : 0.0, frame_ms);
     std::printf("guards   min det(I + grad u) %.4g, miss %.4g%s;", r.min_jacobian, r.max_miss,
                 r.rejected ? ", frame undone" : "");
-    bool any = false;
-    deform::for_each_guard(r.guards, [&](const char* name, std::uint32_t count) {
-      if (count == 0) return;
-      std::printf(" %s %u", name, count);
-      any = true;
-    });
-    std::printf("%s\n", any ? "" : " none acted");
+    const std::string guards = acted_guards(r.guards, ' ');
+    std::printf("%s\n", guards.empty() ? " none acted" : guards.c_str());
     if (!out_path_.empty()) std::printf("wrote    %s\n", out_path_.c_str());
   }
 
@@ -399,7 +407,7 @@ class DeformCommand final : public Command {
   bool use_double_ = false;
   BadNormalsOption bad_normals_;
   CLI::Option *eps_reg_option_ = nullptr, *bc_option_ = nullptr, *dd_option_ = nullptr, *dr_option_ = nullptr,
-              *region_option_ = nullptr, *reference_option_ = nullptr;
+              *region_option_ = nullptr, *reference_option_ = nullptr, *encoding_option_ = nullptr;
 };
 
 }  // namespace

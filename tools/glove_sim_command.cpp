@@ -9,10 +9,13 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "number_check.hpp"
+#include "sculpt/base/time_limits.hpp"
 #include "sculpt/hal/serial_frame_writer.hpp"
 #include "sculpt/hal/sim_script.hpp"
 #include "sculpt/rt/fixed_rate_loop.hpp"
 #include "sculpt/rt/scene.hpp"
+#include "serial_device_check.hpp"
 #if SCULPT_HAS_LCM
 #include <lcm/lcm-cpp.hpp>
 
@@ -71,9 +74,11 @@ class GloveSimCommand final : public Command {
     sub_->add_option("scene", scene_path_, "Scene file with a glove.sim script")->required();
     auto* serial = sub_->add_option("--serial", serial_, "Serial device to write the wire protocol to");
     auto* lcm = sub_->add_option("--lcm", lcm_url_, "LCM URL to publish glove samples on");
-    sub_->add_option("--channel", channel_, "LCM channel")->default_val("SCULPT_GLOVE");
+    // A channel given with --serial would be ignored: refused instead.
+    sub_->add_option("--channel", channel_, "LCM channel (with --lcm)")->default_val("SCULPT_GLOVE")->needs(lcm);
     serial->excludes(lcm);
-    sub_->add_option("--duration", duration_s_, "Stop after this many seconds")->check(CLI::PositiveNumber);
+    sub_->add_option("--duration", duration_s_, "Stop after this many seconds")
+        ->check(positive_up_to(base::kMaxDurationS, "seconds: at most a year"));
   }
   bool chosen() const override { return sub_->parsed(); }
 
@@ -92,6 +97,14 @@ class GloveSimCommand final : public Command {
     } catch (const std::exception& e) {
       std::cerr << "sculpt glove-sim: error: " << e.what() << "\n";
       return kExitUsage;
+    }
+    // The writer retries a device that goes away; one that never was a serial line would only
+    // count undelivered samples.
+    if (!serial_.empty()) {
+      if (const std::string why = serial_device_problem(serial_); !why.empty()) {
+        std::cerr << "sculpt glove-sim: error: --serial " << serial_ << ": " << why << "\n";
+        return kExitFailure;
+      }
     }
     try {
       std::unique_ptr<SampleSink> sink;

@@ -1,5 +1,7 @@
 #include "output_paths.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
@@ -34,6 +36,13 @@ void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPa
     throw std::invalid_argument(output.what + " " + output.path + " is " + input.what + " (" + input.path +
                                 "): an output may not overwrite an input");
   }
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
 }
 
 void refuse_unwritable_model_format(const std::string& option, const std::string& path) {

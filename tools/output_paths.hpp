@@ -23,4 +23,7 @@ void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPa
 /// deform::write_model writes).
 void refuse_unwritable_model_format(const std::string& option, const std::string& path);
 
+/// The path's extension in lower case, with its dot (".ply"); empty when it has none.
+std::string lower_extension(const std::string& path);
+
 }  // namespace sculpt::tools

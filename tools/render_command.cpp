@@ -17,6 +17,8 @@
 #include <stdexcept>
 
 #include "commands.hpp"
+#include "number_check.hpp"
+#include "output_paths.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/render/picture.hpp"
 #include "sculpt/render/png_file.hpp"
@@ -24,6 +26,7 @@
 #if SCULPT_HAS_LCM
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
+#include "sculpt/logging/event_log_walk.hpp"
 #include "sculpt/logging/records.hpp"
 #endif
 
@@ -62,10 +65,7 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
 // The picture is written last, after seconds of rendering: a typo in its name or folder should
 // cost nothing, so it is checked first.
 void check_output_path(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  if (extension != ".png")
+  if (lower_extension(path) != ".png")
     throw std::invalid_argument("--out " + path + ": the picture is written as PNG; name it .png");
   std::filesystem::path folder = std::filesystem::path(path).parent_path();
   if (folder.empty()) folder = ".";
@@ -96,26 +96,20 @@ struct SessionOverlay {
 SessionOverlay read_session_overlay(const std::string& path, double arrow_scale) {
   SessionOverlay session;
   std::map<std::pair<int, int>, render::Polyline> paths;  // by (hand, finger)
-  logging::EventLogReader reader(path);
-  logging::LogEvent event;
-  for (;;) {
-    const auto result = reader.next(event);
-    if (result == logging::EventLogReader::Result::kEnd) break;
-    if (result == logging::EventLogReader::Result::kCorrupt) {
-      std::fprintf(stderr, "skipped  %s\n", reader.error().c_str());
-      ++session.skipped;
-      continue;
-    }
+  const auto skip = [&](std::uint64_t, const std::string& what) {
+    std::fprintf(stderr, "skipped  %s\n", what.c_str());
+    ++session.skipped;
+  };
+  const auto take = [&](const logging::LogEvent& event) {
     std::string error;
     if (event.channel == logging::kFingertipChannel) {
       sculpt_lcm::fingertip_state_t tip;
       if (!logging::decode(event, tip, error)) {
-        std::fprintf(stderr, "skipped  %s\n", error.c_str());
-        ++session.skipped;
-        continue;
+        skip(event.offset, error);
+        return;
       }
       const render::Vec3 p{tip.registered[0], tip.registered[1], tip.registered[2]};
-      if (!deform::is_finite(p)) continue;
+      if (!deform::is_finite(p)) return;
       render::Polyline& line = paths[{tip.hand, tip.finger}];
       if (line.points.empty()) {
         const render::Rgb c = finger_color(tip.finger);
@@ -127,13 +121,10 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale)
       sculpt_lcm::collision_event_t message;
       logging::CollisionRecord c;
       if (!logging::decode(event, message, error) || !logging::from_lcm(message, c)) {
-        std::fprintf(stderr, "skipped  %s\n",
-                     error.empty() ? (path + ": byte offset " + std::to_string(event.offset) +
-                                      ": SCULPT_COLLISION event with invalid fields")
-                                         .c_str()
-                                   : error.c_str());
-        ++session.skipped;
-        continue;
+        skip(event.offset, error.empty() ? path + ": byte offset " + std::to_string(event.offset) +
+                                               ": SCULPT_COLLISION event with invalid fields"
+                                         : error);
+        return;
       }
       const render::Vec3 contact{c.contact[0], c.contact[1], c.contact[2]};
       const render::Vec3 force{c.force[0], c.force[1], c.force[2]};
@@ -142,7 +133,8 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale)
       session.overlay.markers.push_back({{c.probe[0], c.probe[1], c.probe[2]}, color, 7.0});
       ++session.collisions;
     }
-  }
+  };
+  logging::for_each_event(path, take, skip);
   for (auto& [finger, line] : paths) session.overlay.paths.push_back(std::move(line));
   return session;
 }
@@ -156,17 +148,23 @@ class RenderCommand final : public Command {
     sub_->add_option("--out", out_path_, "Write the picture here (.png)")->required();
     sub_->add_option("--compare", before_path_,
                      "Earlier version of the model (same points): draw both, the model coloured by displacement");
-    sub_->add_option("--log", log_path_, "Event log of a session (sculpt run): draw its probes and force arrows");
+    auto* log =
+        sub_->add_option("--log", log_path_, "Event log of a session (sculpt run): draw its probes and force arrows");
+    // Options that only shape something another option asks for are refused without it.
     sub_->add_option("--arrow-scale", arrow_scale_, "With --log: draw each force arrow this many times its length")
-        ->check(CLI::PositiveNumber)
-        ->default_val(1.0);
+        ->check(finite_in(0.0, true, 1e6, false))
+        ->default_val(1.0)
+        ->needs(log);
     sub_->add_option("--views", views_, "A row of this many views around the model")->check(CLI::Range(1, 36));
-    sub_->add_option("--azimuth", request_.azimuth_deg, "Degrees about the up axis, 0 = front")->default_val(30.0);
-    sub_->add_option("--elevation", request_.elevation_deg, "Degrees above the horizon")
-        ->check(CLI::Range(-90.0, 90.0))
-        ->default_val(20.0);
+    auto* azimuth = sub_->add_option("--azimuth", request_.azimuth_deg, "Degrees about the up axis, 0 = front")
+                        ->check(finite_in(-360.0, false, 360.0, false, "degrees"))
+                        ->default_val(30.0);
+    auto* elevation = sub_->add_option("--elevation", request_.elevation_deg, "Degrees above the horizon")
+                          ->check(finite_in(-90.0, false, 90.0, false, "degrees"))
+                          ->default_val(20.0);
     view_option_ =
         sub_->add_option("--view", view_text_, "DX,DY,DZ: look along this direction (instead of the angles)");
+    view_option_->excludes(azimuth)->excludes(elevation);
     sub_->add_option("--up", up_, "The model's up axis: x | y | z")
         ->check(CLI::IsMember({"x", "y", "z"}))
         ->default_val("y");
@@ -242,7 +240,7 @@ class RenderCommand final : public Command {
     std::printf("model    %s: %zu points, %s\n", model_path_.c_str(), model.size(), drawn);
     if (before)
       std::printf("compare  %s: largest displacement %.4g model units\n", before_path_.c_str(), info.max_displacement);
-    std::printf("wrote    %s: %dx%d (%d x %d views), %.0f ms\n", out_path_.c_str(), picture.width, picture.height,
+    std::printf("wrote    %s: %dx%d (%d x %d views), %.4g ms\n", out_path_.c_str(), picture.width, picture.height,
                 info.rows, info.columns, ms);
     return kExitOk;
   }

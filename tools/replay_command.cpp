@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -25,6 +26,7 @@
 #if SCULPT_HAS_LCM
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
+#include "sculpt/logging/event_log_walk.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/logging/records.hpp"
 #include "sculpt/rt/lcm_session_header.hpp"
@@ -79,19 +81,12 @@ struct SessionLog {
 // Reads everything replay needs, going on past what it cannot use and saying where that was.
 SessionLog read_session(const std::string& path) {
   SessionLog log;
-  logging::EventLogReader reader(path);
-  log.size = reader.file_size();
-  logging::LogEvent event;
   const auto damaged = [&](std::uint64_t offset, std::string what) {
     log.damage.push_back({offset, std::move(what), log.collisions.size(), log.events});
   };
-  for (;;) {
-    const auto result = reader.next(event);
-    if (result == logging::EventLogReader::Result::kEnd) break;
-    if (result == logging::EventLogReader::Result::kCorrupt) {
-      damaged(reader.error_offset(), reader.error());
-      continue;
-    }
+  // One valid event: true when it is one replay can use (or ignores by its channel), false
+  // (and reported as damage) when it does not decode.
+  const auto take = [&](const logging::LogEvent& event) {
     const std::string where = path + ": byte offset " + std::to_string(event.offset) + ": ";
     std::string error;
     if (event.channel == logging::kSessionChannel) {
@@ -99,11 +94,11 @@ SessionLog read_session(const std::string& path) {
       rt::SessionHeader header;
       if (log.events != 0) {
         damaged(event.offset, where + "a session header after the log's first event");
-        continue;
+        return false;
       }
       if (!logging::decode(event, message, error) || !rt::from_lcm(message, header, error)) {
         damaged(event.offset, where + error);
-        continue;
+        return false;
       }
       log.header = std::move(header);
     } else if (event.channel == logging::kCollisionChannel) {
@@ -111,11 +106,11 @@ SessionLog read_session(const std::string& path) {
       logging::CollisionRecord record;
       if (!logging::decode(event, message, error)) {
         damaged(event.offset, where + error);
-        continue;
+        return false;
       }
       if (!logging::from_lcm(message, record)) {
         damaged(event.offset, where + "SCULPT_COLLISION event with invalid fields");
-        continue;
+        return false;
       }
       log.collisions.push_back(record);
       log.collision_offsets.push_back(event.offset);
@@ -124,18 +119,25 @@ SessionLog read_session(const std::string& path) {
       hal::GloveSample sample;
       if (!logging::decode(event, message, error)) {
         damaged(event.offset, where + error);
-        continue;
+        return false;
       }
       if (!hal::from_lcm(message, sample)) {
         damaged(event.offset, where + "SCULPT_GLOVE event with invalid fields");
-        continue;
+        return false;
       }
       sample.receive_time_ns = message.utime * 1000;  // the log's time base
       log.samples.push_back(sample);
     }
-    ++log.events;
-  }
-  log.skipped_bytes = reader.skipped_bytes();
+    return true;
+  };
+  const logging::EventLogTotals totals = logging::for_each_event(
+      path,
+      [&](const logging::LogEvent& event) {
+        if (take(event)) ++log.events;
+      },
+      damaged);
+  log.size = totals.file_size;
+  log.skipped_bytes = totals.skipped_bytes;
   return log;
 }
 
@@ -159,22 +161,31 @@ class ReplayCommand final : public Command {
   explicit ReplayCommand(CLI::App& app) {
     sub_ = app.add_subcommand("replay", "Play a recorded session back onto a model");
     sub_->add_option("log", log_path_, "Event log written by sculpt run (LCM log format)")->required();
-    sub_->add_option("--model", model_path_, "Model to apply the session to (required unless --list)");
-    sub_->add_option("--scene", scene_path_, "Scene of the session (needed to re-run the glove samples)");
-    sub_->add_option("--mode", mode_,
-                     "transfer (apply the collision events) | rerun (glove samples through the station) | both")
-        ->check(CLI::IsMember({"transfer", "rerun", "both"}));
-    sub_->add_option("--out", out_path_, "Write the resulting model here (.ply, .off or .xyz)");
+    auto* model = sub_->add_option("--model", model_path_, "Model to apply the session to (required unless --list)");
+    auto* scene = sub_->add_option("--scene", scene_path_, "Scene of the session (needed to re-run the glove samples)");
+    auto* mode = sub_->add_option("--mode", mode_,
+                                  "transfer (apply the collision events) | rerun (glove samples through the station) | "
+                                  "both")
+                     ->check(CLI::IsMember({"transfer", "rerun", "both"}));
+    auto* out = sub_->add_option("--out", out_path_, "Write the resulting model here (.ply, .off or .xyz)");
     sub_->add_option("--json", json_path_, "Write the report here ('-' for stdout)");
-    sub_->add_option("--record", record_path_, "Mode rerun: write the re-run's own durable log here");
-    sub_->add_option("--until-frame", until_frame_, "Apply the collision frames up to and including this frame id");
-    sub_->add_option("--drop-stroke", drop_stroke_, "Leave out this stroke (its number in --list)")
-        ->check(CLI::PositiveNumber);
-    sub_->add_flag("--list", list_, "Print the log's strokes (one finger's touch to release) with their frames");
-    sub_->add_flag("--force", force_, "Apply the log to a model it was not recorded on");
+    auto* record = sub_->add_option("--record", record_path_, "Mode rerun: write the re-run's own durable log here");
+    auto* until =
+        sub_->add_option("--until-frame", until_frame_, "Apply the collision frames up to and including this frame id");
+    auto* drop = sub_->add_option("--drop-stroke", drop_stroke_, "Leave out this stroke (its number in --list)")
+                     ->check(CLI::Range(std::size_t{1}, std::numeric_limits<std::size_t>::max()));
+    auto* list =
+        sub_->add_flag("--list", list_, "Print the log's strokes (one finger's touch to release) with their frames");
+    auto* force = sub_->add_flag("--force", force_, "Apply the log to a model it was not recorded on");
     sub_->add_flag("--skip-damage", skip_damage_,
                    "Go on past damage inside the log (the result is then a model no session produced)");
     bad_normals_.add_to(*sub_);
+    // --list only prints the strokes (of the log recovered as replay would, so --skip-damage
+    // and --json still apply): everything about a model would be ignored.
+    for (CLI::Option* unused :
+         {model, scene, mode, out, record, until, drop, force, sub_->get_option("--bad-normals")}) {
+      list->excludes(unused);
+    }
   }
   bool chosen() const override { return sub_->parsed(); }
 
@@ -212,6 +223,12 @@ class ReplayCommand final : public Command {
     if (edits && mode_ != "transfer") {
       throw std::invalid_argument(
           "--until-frame and --drop-stroke edit the collision events: they need --mode transfer");
+    }
+    // The transfer applies the logged events alone; a scene given for it would be ignored.
+    if (mode_ == "transfer" && !scene_path_.empty()) {
+      throw std::invalid_argument(std::string("--scene is not used by --mode transfer") +
+                                  (edits ? " (--until-frame and --drop-stroke transfer the edited events)" : "") +
+                                  "; the scene is for --mode rerun and both");
     }
     if (!record_path_.empty() && mode_ != "rerun") throw std::invalid_argument("--record needs --mode rerun");
     if (!out_path_.empty()) refuse_unwritable_model_format("--out", out_path_);

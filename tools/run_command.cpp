@@ -14,8 +14,11 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "guard_report.hpp"
 #include "json_report.hpp"
+#include "number_check.hpp"
 #include "output_paths.hpp"
+#include "sculpt/base/time_limits.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/normal_check.hpp"
 #include "sculpt/rt/fixed_rate_loop.hpp"
@@ -24,6 +27,7 @@
 #include "sculpt/rt/session_recorder.hpp"
 #include "sculpt/rt/station_run.hpp"
 #include "sculpt/rt/station_setup.hpp"
+#include "serial_device_check.hpp"
 
 namespace sculpt::tools {
 namespace {
@@ -53,11 +57,13 @@ class RunCommand final : public Command {
     sub_ = app.add_subcommand("run", "Run the sculpting station on a scene");
     sub_->add_option("scene", scene_path_, "Scene file (TOML)")->required();
     sub_->add_option("--duration", duration_s_, "Stop after this many seconds (default: until SIGINT/SIGTERM)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_up_to(base::kMaxDurationS, "seconds: at most a year"));
     sub_->add_option("--out", out_path_, "Write the final model here (overrides output.model)");
     sub_->add_option("--json", json_path_, "Write the run summary here (overrides output.json; '-' for stdout)");
-    sub_->add_option("--serial", serial_device_, "Read the glove from this serial device (overrides glove.backend)");
-    sub_->add_option("--lcm", lcm_url_, "Read the glove from this LCM URL (overrides glove.backend)");
+    auto* serial = sub_->add_option("--serial", serial_device_,
+                                    "Read the glove from this serial device (overrides glove.backend)");
+    auto* lcm = sub_->add_option("--lcm", lcm_url_, "Read the glove from this LCM URL (overrides glove.backend)");
+    serial->excludes(lcm);  // one glove backend: the later would silently win
     sub_->add_flag("--quiet", quiet_, "No live status line");
   }
   bool chosen() const override { return sub_->parsed(); }
@@ -77,6 +83,11 @@ class RunCommand final : public Command {
     if (!lcm_url_.empty()) {
       scene.glove.config.backend = hal::Backend::kLcm;
       scene.glove.config.lcm.url = lcm_url_;
+    }
+    // A serial line that cannot be one would run with 0 samples, or wait for ever in silence.
+    if (const std::string problem = serial_problems(scene); !problem.empty()) {
+      std::cerr << "sculpt run: error: " << problem << "\n";
+      return kExitFailure;
     }
     // Outputs before the session: an unwritable format or an output that names an input would
     // otherwise only show once the work is done (or has overwritten the scene's model).
@@ -104,6 +115,24 @@ class RunCommand final : public Command {
   }
 
  private:
+  // The first serial device of the session (the glove's, the haptic sink's) that is missing or
+  // not a terminal, named as the user gave it; empty when there is none.
+  std::string serial_problems(const rt::Scene& scene) const {
+    if (scene.glove.config.backend == hal::Backend::kSerial) {
+      const std::string& device = scene.glove.config.serial.device;
+      const std::string name =
+          !serial_device_.empty() ? "--serial " + device : scene_path_ + ": glove.serial.device " + device;
+      if (const std::string why = serial_device_problem(device); !why.empty()) return name + ": " + why;
+    }
+    if (scene.haptic.sink == hal::SinkKind::kSerial) {
+      const std::string& device = scene.haptic.serial.device;
+      if (const std::string why = serial_device_problem(device); !why.empty()) {
+        return scene_path_ + ": haptic.serial.device " + device + ": " + why;
+      }
+    }
+    return {};
+  }
+
   int run_station(const rt::Scene& scene) {
     rt::StationSetup setup = rt::prepare_station(scene);
     std::unique_ptr<rt::Station> station = rt::make_station(setup, scene);
@@ -174,7 +203,7 @@ class RunCommand final : public Command {
       write_json(json, summary);
     }
     const rt::StationTotals& t = station->totals();
-    std::printf("\nresult   %llu ticks at %.1f Hz, %llu overruns, tick median %.1f us p99 %.1f us max %.1f us\n",
+    std::printf("\nresult   %llu ticks at %.4g Hz, %llu overruns, tick median %.4g us p99 %.4g us max %.4g us\n",
                 static_cast<unsigned long long>(loop.stats().ticks), loop.achieved_rate(),
                 static_cast<unsigned long long>(loop.stats().overruns), loop.stats().tick_time.quantile(0.5) * 1e-3,
                 loop.stats().tick_time.quantile(0.99) * 1e-3, static_cast<double>(loop.stats().tick_time.max()) * 1e-3);
@@ -217,13 +246,13 @@ class RunCommand final : public Command {
       const auto now = std::chrono::steady_clock::now();
       const double dt = std::chrono::duration<double>(now - last).count();
       const std::uint64_t ticks = live.ticks.load();
-      std::printf(
-          "\r%7.1f/%.0f Hz  ticks %llu  overruns %llu  collisions %llu  region %llu pts in %.0f us  glove %s   ",
-          static_cast<double>(ticks - last_ticks) / dt, rate, static_cast<unsigned long long>(ticks),
-          static_cast<unsigned long long>(live.overruns.load()),
-          static_cast<unsigned long long>(live.collisions.load()),
-          static_cast<unsigned long long>(live.region_points.load()), static_cast<double>(live.deform_ns.load()) * 1e-3,
-          glove_name(static_cast<rt::GloveState>(live.glove.load())));
+      std::printf("\r%7.4g/%g Hz  ticks %llu  overruns %llu  collisions %llu  region %llu pts in %.4g us  glove %s   ",
+                  static_cast<double>(ticks - last_ticks) / dt, rate, static_cast<unsigned long long>(ticks),
+                  static_cast<unsigned long long>(live.overruns.load()),
+                  static_cast<unsigned long long>(live.collisions.load()),
+                  static_cast<unsigned long long>(live.region_points.load()),
+                  static_cast<double>(live.deform_ns.load()) * 1e-3,
+                  glove_name(static_cast<rt::GloveState>(live.glove.load())));
       std::fflush(stdout);
       last_ticks = ticks;
       last = now;
@@ -245,8 +274,6 @@ class RunCommand final : public Command {
                              {"error_frames", c.error_frames},   {"bus_off", c.bus_off},
                              {"stale_events", t.stale_events},   {"out_of_range", t.out_of_range},
                              {"haptic_faults", t.haptic_faults}};
-    nlohmann::json guards = nlohmann::json::object();
-    deform::for_each_guard(t.guards, [&](const char* name, std::uint32_t count) { guards[name] = count; });
     return {{"scene", scene_path_},
             {"rate_hz", loop.rate_hz()},
             {"achieved_rate_hz", loop.achieved_rate()},
@@ -265,7 +292,7 @@ class RunCommand final : public Command {
             {"max_region_radius", t.max_region_radius},
             {"index_rebuilds", t.index_rebuilds},
             {"faults", faults},
-            {"guards", guards},
+            {"guards", guards_json(t.guards)},
             {"haptic", haptic_json(station.haptic(), loop)}};
   }
 

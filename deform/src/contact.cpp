@@ -4,20 +4,22 @@
 #include <stdexcept>
 #include <string>
 
+#include "sculpt/base/number_text.hpp"
+
 namespace sculpt::deform {
 
 void ContactSettings::validate() const {
   auto positive = [](double v, const char* name) {
     if (!(v > 0.0) || !std::isfinite(v)) {
       throw std::invalid_argument(std::string("contact: ") + name + " must be a positive finite number, got " +
-                                  std::to_string(v));
+                                  base::number_text(v));
     }
   };
   positive(bc_radius, "bc radius (eps)");
   positive(min_source_distance, "minimum source distance (delta d)");
   if (!(guard_distance >= 0.0) || !std::isfinite(guard_distance)) {
     throw std::invalid_argument("contact: guard distance (delta r) must be >= 0, got " +
-                                std::to_string(guard_distance));
+                                base::number_text(guard_distance));
   }
   if (max_patch_points < 1 || max_patch_points > kMaxPatchPointsLimit) {
     throw std::invalid_argument("contact: max patch points must be 1 to " + std::to_string(kMaxPatchPointsLimit) +

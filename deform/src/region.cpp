@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "sculpt/base/number_text.hpp"
+
 namespace sculpt::deform {
 
 Region::Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index, double bc_radius)
@@ -19,9 +21,9 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
     // The contact's own neighbourhood must lie wholly inside the region and clear of the band,
     // or the frame would pin the very points it asks to move.
     if (!(settings_.radius > bc_radius + border_width_)) {
-      throw std::invalid_argument("region: radius " + std::to_string(settings_.radius) +
+      throw std::invalid_argument("region: radius " + base::number_text(settings_.radius) +
                                   " must exceed the bc radius plus the border width (" +
-                                  std::to_string(bc_radius + border_width_) + ")");
+                                  base::number_text(bc_radius + border_width_) + ")");
     }
   }
   const std::size_t n = model.size();

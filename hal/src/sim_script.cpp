@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <string>
+
+#include "sculpt/base/number_text.hpp"
+#include "sculpt/base/time_limits.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -16,11 +18,7 @@ constexpr double kMaxRateHz = 10000.0;
   throw std::invalid_argument("glove.sim." + field + ": " + why);
 }
 
-std::string number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string number(double v) { return base::number_text(v); }
 
 std::string finger_field(std::size_t i) { return "finger[" + std::to_string(i) + "]"; }
 
@@ -49,10 +47,12 @@ SimScript::SimScript(const SimConfig& config)
     fail("jitter_stddev", number(config.jitter_stddev) + " is not a finite value >= 0");
   if (!(config.dropout_probability >= 0.0 && config.dropout_probability <= 1.0))
     fail("dropout_probability", number(config.dropout_probability) + " is outside [0, 1]");
-  if (!(config.latency_ms >= 0.0) || !std::isfinite(config.latency_ms))
-    fail("latency_ms", number(config.latency_ms) + " is not a finite value >= 0");
-  if (!(config.duration_s >= 0.0) || !std::isfinite(config.duration_s))
-    fail("duration_s", number(config.duration_s) + " is not a finite value >= 0");
+  // Script times become int64 microseconds of device time and nanoseconds of delivery time:
+  // past a year (an hour of latency) they are typos, and far past it they overflow.
+  if (!(config.latency_ms >= 0.0 && config.latency_ms <= base::kMaxTimeoutMs))
+    fail("latency_ms", number(config.latency_ms) + " ms is outside [0, " + number(base::kMaxTimeoutMs) + "] (an hour)");
+  if (!(config.duration_s >= 0.0 && config.duration_s <= base::kMaxDurationS))
+    fail("duration_s", number(config.duration_s) + " s is outside [0, " + number(base::kMaxDurationS) + "] (a year)");
 
   for (auto& hand : script_of_) hand.fill(kUnscripted);
   scripts_.reserve(config.fingers.size());
@@ -65,8 +65,8 @@ SimScript::SimScript(const SimConfig& config)
     for (std::size_t k = 0; k < f.keyframes.size(); ++k) {
       const Keyframe& key = f.keyframes[k];
       const std::string kf = field + ".keyframes[" + std::to_string(k) + "]";
-      if (!std::isfinite(key.time_s) || key.time_s < 0.0)
-        fail(kf, "time " + number(key.time_s) + " s is not a finite value >= 0");
+      if (!(key.time_s >= 0.0 && key.time_s <= base::kMaxDurationS))
+        fail(kf, "time " + number(key.time_s) + " s is outside [0, " + number(base::kMaxDurationS) + "] (a year)");
       if (!std::isfinite(key.x) || !std::isfinite(key.y) || !std::isfinite(key.z)) fail(kf, "position is not finite");
       // Equal times are allowed: they make an instant step, e.g. a finger placed on contact.
       if (k > 0 && key.time_s < f.keyframes[k - 1].time_s)

@@ -4,11 +4,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "sculpt/base/number_text.hpp"
+
 namespace sculpt::rt {
 
 DeadBand::DeadBand(double delta_s) : delta_s_(delta_s), delta_s_squared_(delta_s * delta_s) {
   if (!std::isfinite(delta_s) || delta_s < 0.0) {
-    throw std::invalid_argument("dead band: delta_s must be finite and >= 0, got " + std::to_string(delta_s));
+    throw std::invalid_argument("dead band: delta_s must be finite and >= 0, got " + base::number_text(delta_s));
   }
 }
 

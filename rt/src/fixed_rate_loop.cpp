@@ -6,12 +6,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "sculpt/base/number_text.hpp"
+
 namespace sculpt::rt {
 
 FixedRateLoop::FixedRateLoop(double rate_hz) : rate_hz_(rate_hz), period_ns_(0) {
   if (!(rate_hz >= kMinRateHz && rate_hz <= kMaxRateHz)) {
-    throw std::invalid_argument("fixed-rate loop: the rate must be " + std::to_string(kMinRateHz) + " to " +
-                                std::to_string(kMaxRateHz) + " Hz, got " + std::to_string(rate_hz));
+    throw std::invalid_argument("fixed-rate loop: the rate must be " + base::number_text(kMinRateHz) + " to " +
+                                base::number_text(kMaxRateHz) + " Hz, got " + base::number_text(rate_hz));
   }
   period_ns_ = std::llround(1e9 / rate_hz);
 }

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "sculpt/base/number_text.hpp"
+
 namespace sculpt::rt {
 namespace {
 
@@ -23,13 +25,14 @@ bool positive_finite(double v) { return std::isfinite(v) && v > 0.0; }
 void OneEuroParams::validate() const {
   if (!positive_finite(min_cutoff)) {
     throw std::invalid_argument("one-euro filter: min_cutoff must be finite and > 0 Hz, got " +
-                                std::to_string(min_cutoff));
+                                base::number_text(min_cutoff));
   }
   if (!positive_finite(d_cutoff)) {
-    throw std::invalid_argument("one-euro filter: d_cutoff must be finite and > 0 Hz, got " + std::to_string(d_cutoff));
+    throw std::invalid_argument("one-euro filter: d_cutoff must be finite and > 0 Hz, got " +
+                                base::number_text(d_cutoff));
   }
   if (!std::isfinite(beta) || beta < 0.0) {
-    throw std::invalid_argument("one-euro filter: beta must be finite and >= 0, got " + std::to_string(beta));
+    throw std::invalid_argument("one-euro filter: beta must be finite and >= 0, got " + base::number_text(beta));
   }
 }
 
@@ -38,7 +41,7 @@ OneEuroFilter::OneEuroFilter(const OneEuroParams& params, double nominal_rate_hz
   params_.validate();
   if (!positive_finite(nominal_rate_hz)) {
     throw std::invalid_argument("one-euro filter: the nominal rate must be finite and > 0 Hz, got " +
-                                std::to_string(nominal_rate_hz));
+                                base::number_text(nominal_rate_hz));
   }
 }
 

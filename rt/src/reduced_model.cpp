@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "sculpt/base/number_text.hpp"
+
 namespace sculpt::rt {
 namespace {
 
@@ -75,7 +77,7 @@ void voxel_subsample(const deform::PointModel& m, const Box& box, double h, std:
 
 std::vector<std::uint32_t> reduced_indices(const deform::PointModel& full, double ratio) {
   if (!(ratio > 0.0 && ratio <= 1.0)) {
-    throw std::invalid_argument("reduced model: ratio " + std::to_string(ratio) + " must be in (0, 1]");
+    throw std::invalid_argument("reduced model: ratio " + base::number_text(ratio) + " must be in (0, 1]");
   }
   const std::size_t n = full.size();
   std::vector<std::uint32_t> kept;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "scene_reader.hpp"
+#include "sculpt/base/time_limits.hpp"
 
 namespace sculpt::rt {
 
@@ -23,6 +24,22 @@ using scene_detail::one_of;
 using scene_detail::Section;
 using scene_detail::show;
 using scene_detail::type_name;
+
+// Every time, timeout and rate is bounded above as well as below: past these a value is a typo,
+// and past int64 nanoseconds (a 1e13 ms timeout added to a clock) it stops a session at once or
+// makes a hand always stale.
+constexpr const char* kTimeoutNote = "milliseconds: at most an hour";
+constexpr const char* kDurationNote = "seconds: at most a year";
+/// One Euro cutoffs above this pass everything the 2 kHz loop can sample: no filter at all.
+constexpr double kMaxCutoffHz = 1e4;
+/// Fastest rise of a haptic force: the largest force allowed (1000 N) in a millisecond.
+constexpr double kMaxForceRate = 1e6;
+
+/// A timeout, interval or latency in milliseconds: in (0, an hour], or [0, an hour] when
+/// `zero_allowed`.
+std::optional<double> timeout_ms(const Section& s, std::string_view key, bool zero_allowed = false) {
+  return s.number_in(key, 0.0, !zero_allowed, base::kMaxTimeoutMs, false, kTimeoutNote);
+}
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -153,11 +170,28 @@ void read_deform(const Section& root, Scene& scene) {
   }
 }
 
+constexpr std::array<std::string_view, hal::kFingers> kFingerNames = {"thumb", "index", "middle", "ring", "little"};
+
+/// A finger as the scene spells it: "'index'".
+std::string finger_name(std::uint8_t finger) {
+  return finger < kFingerNames.size() ? "'" + std::string(kFingerNames[finger]) + "'" : std::to_string(finger);
+}
+std::string hand_name(std::uint8_t hand) { return std::to_string(hand); }
+
+/// "[0, 1]", "['index', 'middle']": a hand or finger list as the scene spells it.
+std::string id_names(const std::vector<std::uint8_t>& ids, std::string (*name)(std::uint8_t)) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (i > 0) text += ", ";
+    text += name(ids[i]);
+  }
+  return text + "]";
+}
+
 std::uint8_t finger_number(const Context& context, const toml::node& node, const std::string& key) {
-  static constexpr std::array<std::string_view, hal::kFingers> kNames = {"thumb", "index", "middle", "ring", "little"};
   if (const auto* name = node.as_string()) {
-    for (std::size_t f = 0; f < kNames.size(); ++f) {
-      if (name->get() == kNames[f]) return static_cast<std::uint8_t>(f);
+    for (std::size_t f = 0; f < kFingerNames.size(); ++f) {
+      if (name->get() == kFingerNames[f]) return static_cast<std::uint8_t>(f);
     }
     scene_detail::fail(context, node.source().begin, key,
                        "unknown finger '" + name->get() + "'; expected " +
@@ -230,6 +264,10 @@ void read_script(const Section& s, hal::FingerScript& script) {
     if (v[0] < 0.0) {
       scene_detail::fail(s.context(), frame.source().begin, key, "time " + show(v[0]) + " s is negative");
     }
+    if (v[0] > base::kMaxDurationS) {
+      scene_detail::fail(s.context(), frame.source().begin, key,
+                         "time " + show(v[0]) + " s is beyond a year (" + show(base::kMaxDurationS) + " s)");
+    }
     // The simulator interpolates between neighbours; equal or falling times have no meaning.
     if (!script.keyframes.empty() && !(v[0] > script.keyframes.back().time_s)) {
       scene_detail::fail(s.context(), frame.source().begin, key,
@@ -240,16 +278,24 @@ void read_script(const Section& s, hal::FingerScript& script) {
   }
 }
 
-void read_sim(const Section& s, hal::SimConfig& sim) {
+/// Where each script of glove.sim names its hand and finger, for messages about the script.
+struct ScriptPlace {
+  std::string key;               ///< "glove.sim.script[1]"
+  toml::source_position hand;    ///< its hand key, or the script's table when the hand is implied
+  toml::source_position finger;  ///< its finger key
+};
+
+void read_sim(const Section& s, hal::SimConfig& sim, std::vector<ScriptPlace>& places) {
   sim.rate_hz = s.number_in("rate_hz", 1.0, false, 2000.0, false).value_or(sim.rate_hz);
   if (const auto seed = s.integer_in("seed", 0, std::numeric_limits<std::int64_t>::max())) {
     sim.seed = static_cast<std::uint64_t>(*seed);
   }
   sim.jitter_stddev = s.non_negative("jitter").value_or(sim.jitter_stddev);
   sim.dropout_probability = s.number_in("dropout", 0.0, false, 1.0, true).value_or(sim.dropout_probability);
-  sim.latency_ms = s.non_negative("latency_ms").value_or(sim.latency_ms);
+  sim.latency_ms = timeout_ms(s, "latency_ms", true).value_or(sim.latency_ms);
   sim.repeat = s.boolean("repeat").value_or(sim.repeat);
-  sim.duration_s = s.non_negative("duration_s").value_or(sim.duration_s);
+  sim.duration_s =
+      s.number_in("duration_s", 0.0, false, base::kMaxDurationS, false, kDurationNote).value_or(sim.duration_s);
 
   s.require("script", "a [[glove.sim.script]] per finger that moves");
   const toml::array* scripts = s.array("script");
@@ -263,7 +309,9 @@ void read_sim(const Section& s, hal::SimConfig& sim) {
                          "expected a table, got " + std::string(type_name(node)));
     }
     hal::FingerScript script;
-    read_script(Section(s.context(), table, key, node.source().begin), script);
+    const Section script_section(s.context(), table, key, node.source().begin);
+    read_script(script_section, script);
+    places.push_back({key, script_section.where("hand"), script_section.where("finger")});
     for (const auto& other : sim.fingers) {
       if (other.hand == script.hand && other.finger == script.finger) {
         scene_detail::fail(s.context(), node.source().begin, key,
@@ -280,7 +328,7 @@ void read_serial(const Section& s, hal::SerialConfig& serial) {
   serial.device = *s.string("device");
   s.check(!serial.device.empty(), "device", "must not be empty");
   if (const auto baud = s.integer_in("baud", 1, 100'000'000)) serial.baud = static_cast<int>(*baud);
-  serial.reconnect_interval_ms = s.positive("reconnect_ms").value_or(serial.reconnect_interval_ms);
+  serial.reconnect_interval_ms = timeout_ms(s, "reconnect_ms").value_or(serial.reconnect_interval_ms);
 }
 
 void read_lcm_transport(const Section& s, const std::string& default_url, std::string& url, std::string& channel) {
@@ -357,13 +405,14 @@ void read_glove(const Section& root, Scene& scene) {
                                                        {"lcm", hal::Backend::kLcm},
                                                        {"socketcan", hal::Backend::kSocketCan}});
   check_backend_sections(s, "backend", backend, {"sim", "serial", "usb", "lcm", "socketcan"});
-  glove.timeout_ms = s.positive("timeout_ms").value_or(glove.timeout_ms);
+  std::vector<ScriptPlace> script_places;
+  glove.timeout_ms = timeout_ms(s, "timeout_ms").value_or(glove.timeout_ms);
   if (const auto q = s.integer_in("queue_capacity", 2, 1 << 20)) config.queue_capacity = static_cast<std::size_t>(*q);
 
   switch (config.backend) {
     case hal::Backend::kSim:
       read_sim(s.table("sim", {"rate_hz", "seed", "jitter", "dropout", "latency_ms", "repeat", "duration_s", "script"}),
-               config.sim);
+               config.sim, script_places);
       break;
     case hal::Backend::kSerial:
       read_serial(s.table("serial", {"device", "baud", "reconnect_ms"}), config.serial);
@@ -399,6 +448,24 @@ void read_glove(const Section& root, Scene& scene) {
   for (auto* list : {&glove.hands, &glove.fingers}) {
     std::sort(list->begin(), list->end());
     list->erase(std::unique(list->begin(), list->end()), list->end());
+  }
+  // The acting fingers are glove.hands x glove.fingers. A script for any other finger would
+  // move a fingertip nothing reads: the scene's author meant it to press, so it is a mistake.
+  const auto has = [](const std::vector<std::uint8_t>& list, std::uint8_t id) {
+    return std::find(list.begin(), list.end(), id) != list.end();
+  };
+  for (std::size_t i = 0; i < script_places.size(); ++i) {
+    const hal::FingerScript& script = config.sim.fingers[i];
+    const bool hand_acts = has(glove.hands, script.hand);
+    if (hand_acts && has(glove.fingers, script.finger)) continue;
+    const std::string what = "hand " + hand_name(script.hand) + " finger " + finger_name(script.finger);
+    const std::string problem = hand_acts
+                                    ? what + " does not act: glove.fingers is " + id_names(glove.fingers, finger_name) +
+                                          "; add it there or remove this script"
+                                    : what + " does not act: glove.hands is " + id_names(glove.hands, hand_name) +
+                                          "; add it there or remove this script";
+    const ScriptPlace& place = script_places[i];
+    scene_detail::fail(s.context(), hand_acts ? place.finger : place.hand, place.key, problem);
   }
 }
 
@@ -441,9 +508,9 @@ void read_filter(const Section& root, Scene& scene) {
   const Section s = root.table("filter", {"enabled", "min_cutoff", "beta", "d_cutoff"});
   auto& f = scene.filter;
   f.enabled = s.boolean("enabled").value_or(f.enabled);
-  f.min_cutoff = s.positive("min_cutoff").value_or(f.min_cutoff);
+  f.min_cutoff = s.number_in("min_cutoff", 0.0, true, kMaxCutoffHz, false, "Hz").value_or(f.min_cutoff);
   f.beta = s.non_negative("beta").value_or(f.beta);
-  f.d_cutoff = s.positive("d_cutoff").value_or(f.d_cutoff);
+  f.d_cutoff = s.number_in("d_cutoff", 0.0, true, kMaxCutoffHz, false, "Hz").value_or(f.d_cutoff);
 }
 
 /// Whether the points span more than a line (Umeyama's fit needs it to fix the rotation).
@@ -539,7 +606,8 @@ void read_haptic(const Section& root, Scene& scene) {
   HapticLimits& limits = scene.haptic_limits;
   limits.gain = s.non_negative("gain").value_or(limits.gain);
   limits.max_force = s.positive("max_force").value_or(limits.max_force);
-  limits.max_force_rate = s.positive("max_force_rate").value_or(limits.max_force_rate);
+  limits.max_force_rate = s.number_in("max_force_rate", 0.0, true, kMaxForceRate, false, "N/s: 1000 N in a millisecond")
+                              .value_or(limits.max_force_rate);
   try {
     limits.validate();
   } catch (const std::invalid_argument& e) {
@@ -609,7 +677,7 @@ void read_output(const Section& root, const std::string& base_dir, Scene& scene)
   }
   out.log = path_value(s, "log", base_dir);
   out.json = path_value(s, "json", base_dir);
-  if (const auto flush = s.positive("flush_interval_ms")) {
+  if (const auto flush = timeout_ms(s, "flush_interval_ms")) {
     if (!out.log) s.fail("flush_interval_ms", "only used with output.log");
     out.flush_interval_ms = *flush;
   }

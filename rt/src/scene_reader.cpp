@@ -1,7 +1,8 @@
 #include "scene_reader.hpp"
 
+#include "sculpt/base/number_text.hpp"
+
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 
@@ -16,11 +17,7 @@ void fail(const Context& context, const toml::source_position& where, const std:
   throw SceneError(context.file, line, column, key, problem);
 }
 
-std::string show(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
+std::string show(double value) { return base::number_text(value); }
 
 std::string_view type_name(const toml::node& node) {
   switch (node.type()) {
@@ -194,14 +191,21 @@ const toml::array* Section::array(std::string_view key) const {
   return n->as_array();
 }
 
-std::optional<double> Section::number_in(std::string_view key, double lo, bool lo_open, double hi, bool hi_open) const {
+std::optional<double> Section::number_in(std::string_view key, double lo, bool lo_open, double hi, bool hi_open,
+                                         std::string_view note) const {
   const auto value = number(key);
   if (!value) return value;
   const bool above = lo_open ? *value > lo : *value >= lo;
   const bool below = hi_open ? *value < hi : *value <= hi;
   if (!above || !below) {
-    fail(key, "out of range: " + show(*value) + " is not in " + (lo_open ? "(" : "[") + show(lo) + ", " + show(hi) +
-                  (hi_open ? ")" : "]"));
+    std::string problem = "out of range: " + show(*value) + " is not in " + (lo_open ? "(" : "[") + show(lo) + ", " +
+                          show(hi) + (hi_open ? ")" : "]");
+    if (!note.empty()) {
+      problem += " (";
+      problem += note;
+      problem += ')';
+    }
+    fail(key, problem);
   }
   return value;
 }

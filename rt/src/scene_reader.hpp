@@ -26,7 +26,7 @@ struct Context {
 [[noreturn]] void fail(const Context& context, const toml::source_position& where, const std::string& key,
                        const std::string& problem);
 
-/// Shortest text that reads back as the same double ("0.5", "3e+07").
+/// A number as every message prints it (base::number_text, %g: "0.5", "3e+07", "1e-09").
 std::string show(double value);
 /// "string", "integer", "float", "boolean", "array", "table", "date", "time", "date-time".
 std::string_view type_name(const toml::node& node);
@@ -79,8 +79,10 @@ class Section {
   std::optional<deform::Vec3> vec3(std::string_view key) const;
   const toml::array* array(std::string_view key) const;
 
-  /// A number within [lo, hi] (either end open when the flag says so).
-  std::optional<double> number_in(std::string_view key, double lo, bool lo_open, double hi, bool hi_open) const;
+  /// A number within [lo, hi] (either end open when the flag says so). `note`, when given, ends
+  /// the message in parentheses: the unit and what the bound means ("ms: at most an hour").
+  std::optional<double> number_in(std::string_view key, double lo, bool lo_open, double hi, bool hi_open,
+                                  std::string_view note = {}) const;
   /// A non-negative number (zero allowed) or a positive one.
   std::optional<double> non_negative(std::string_view key) const;
   std::optional<double> positive(std::string_view key) const;

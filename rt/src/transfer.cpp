@@ -5,10 +5,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <unordered_set>
+
+#include "sculpt/base/number_text.hpp"
 
 namespace sculpt::rt {
 namespace {
@@ -88,9 +89,8 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
       case RegionKind::kGlobal: global = true; break;
       case RegionKind::kRadius:
         if (!(r.region_radius > 0.0) || !std::isfinite(r.region_radius) || !finite(r.region_centre)) {
-          char radius[32];
-          std::snprintf(radius, sizeof radius, "%g", r.region_radius);
-          reject(id, "event " + std::to_string(e) + " has a radius region with radius " + radius);
+          reject(id, "event " + std::to_string(e) + " has a radius region with radius " +
+                         base::number_text(r.region_radius));
         }
         break;
       case RegionKind::kIndexSet: reject(id, "an index-set region cannot be transferred (its points are not recorded)");

@@ -70,6 +70,24 @@ TEST(SimScript, RejectsInvalidFieldsNamingThem) {
   EXPECT_NE(error_of(endless).find("glove.sim.dropout_probability"), std::string::npos);
 }
 
+// A time past int64 microseconds (or NaN) would end the script at once or never: every time is
+// bounded, a script to a year and a latency to an hour, and the message prints it with %g.
+TEST(SimScript, RejectsTimesBeyondAYearOrAnHour) {
+  SimConfig c = one_finger(80, {{0, 0, 0, 0}, {1e13, 0, 0, 0}});
+  EXPECT_EQ(error_of(c), "glove.sim.finger[0].keyframes[1]: time 1e+13 s is outside [0, 3.1536e+07] (a year)");
+  c = one_finger(80, {{std::nan(""), 0, 0, 0}});
+  EXPECT_EQ(error_of(c), "glove.sim.finger[0].keyframes[0]: time nan s is outside [0, 3.1536e+07] (a year)");
+  c = one_finger(80, {{0, 0, 0, 0}});
+  c.duration_s = 1e308;
+  EXPECT_EQ(error_of(c), "glove.sim.duration_s: 1e+308 s is outside [0, 3.1536e+07] (a year)");
+  c.duration_s = 365.0 * 86400.0;
+  EXPECT_EQ(error_of(c), "(no error)");
+  c.latency_ms = 1e13;
+  EXPECT_EQ(error_of(c), "glove.sim.latency_ms: 1e+13 ms is outside [0, 3.6e+06] (an hour)");
+  c.latency_ms = std::nan("");
+  EXPECT_NE(error_of(c).find("glove.sim.latency_ms: nan ms"), std::string::npos);
+}
+
 TEST(SimScript, InterpolatesLinearlyAndHoldsTheEnds) {
   // From (0,0,0) at 0.5 s to (1,2,3) at 1.5 s; sampled at 10 Hz for 2 s.
   SimConfig c = one_finger(10, {{0.5, 0, 0, 0}, {1.5, 1, 2, 3}});

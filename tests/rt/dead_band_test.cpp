@@ -144,6 +144,13 @@ TEST(DeadBand, RejectsABadDeltaS) {
   EXPECT_THROW(DeadBand(-0.1), std::invalid_argument);
   EXPECT_THROW(DeadBand{std::numeric_limits<double>::quiet_NaN()}, std::invalid_argument);
   EXPECT_THROW(DeadBand{std::numeric_limits<double>::infinity()}, std::invalid_argument);
+  // The value as %g prints it: std::to_string printed -1e-9 as -0.000000.
+  try {
+    DeadBand(-1e-9);
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "dead band: delta_s must be finite and >= 0, got -1e-09");
+  }
 }
 
 }  // namespace

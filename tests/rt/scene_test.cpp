@@ -409,6 +409,18 @@ struct Malformed {
   const char* problem;  // a part of the message after the key
 };
 
+/// A sim-glove scene whose [glove] table holds `line`, on line 5.
+std::string glove_scene(const std::string& line) {
+  return "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"sim\"\n" + line +
+         "\n[[glove.sim.script]]\nfinger = 1\nkeyframes = [[0, 0, 0, 1]]\n";
+}
+
+/// A sim-glove scene whose [glove.sim] table holds `line`, on line 6.
+std::string sim_scene(const std::string& line) {
+  return "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"sim\"\n[glove.sim]\n" + line +
+         "\n[[glove.sim.script]]\nfinger = \"index\"\nkeyframes = [[0, 0, 0, 1]]\n";
+}
+
 // Line numbers below count from the start of each text; kMinimal is 7 lines.
 std::vector<Malformed> malformed_scenes() {
   return {
@@ -477,17 +489,7 @@ landmarks = [
       {"negative region radius", kMinimal + "[heuristic]\nregion = -2\n", "heuristic.region", 9, "must be > 0"},
       {"budget above 1", kMinimal + "[heuristic]\nbudget_fraction = 1.5\n", "heuristic.budget_fraction", 9,
        "out of range"},
-      {"infinite jitter", R"([model]
-path = "m.ply"
-[glove]
-backend = "sim"
-[glove.sim]
-jitter = inf
-[[glove.sim.script]]
-finger = "index"
-keyframes = [[0, 0, 0, 1]]
-)",
-       "glove.sim.jitter", 6, "must be finite"},
+      {"infinite jitter", sim_scene("jitter = inf"), "glove.sim.jitter", 6, "must be finite"},
       {"unknown mode", kMinimal + "[deform]\nmode = \"pul\"\n", "deform.mode", 9,
        "unknown value 'pul'; expected 'push' or 'pull'"},
       {"unknown backend", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"bluetooth\"\n", "glove.backend", 4,
@@ -635,21 +637,60 @@ sink = "can"
        "only used with output.log"},
       {"output overwrites the model", kMinimal + "[output]\nmodel = \"./m.ply\"\n", "output.model", 9,
        "would overwrite"},
-      {"zero glove timeout",
-       "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"sim\"\ntimeout_ms = 0\n"
-       "[[glove.sim.script]]\nfinger = 1\nkeyframes = [[0, 0, 0, 1]]\n",
-       "glove.timeout_ms", 5, "must be > 0"},
-      {"dropout of 1", R"([model]
+      {"zero glove timeout", glove_scene("timeout_ms = 0"), "glove.timeout_ms", 5,
+       "out of range: 0 is not in (0, 3.6e+06] (milliseconds: at most an hour)"},
+      // Times, timeouts and rates are bounded above: 1e13 ms added to a clock overflows int64
+      // nanoseconds and made every hand stale at once.
+      {"glove timeout of 1e13 ms", glove_scene("timeout_ms = 1e13"), "glove.timeout_ms", 5,
+       "out of range: 1e+13 is not in (0, 3.6e+06] (milliseconds: at most an hour)"},
+      {"keyframe beyond a year", R"([model]
 path = "m.ply"
 [glove]
 backend = "sim"
-[glove.sim]
-dropout = 1.0
+[[glove.sim.script]]
+finger = "index"
+keyframes = [[0, 0, 0, 1], [1e308, 0, 0, 1]]
+)",
+       "glove.sim.script[0].keyframes[1]", 7, "time 1e+308 s is beyond a year (3.1536e+07 s)"},
+      {"sim duration beyond a year", sim_scene("duration_s = 1e308"), "glove.sim.duration_s", 6,
+       "out of range: 1e+308 is not in [0, 3.1536e+07] (seconds: at most a year)"},
+      {"sim latency beyond an hour", sim_scene("latency_ms = 1e13"), "glove.sim.latency_ms", 6,
+       "out of range: 1e+13 is not in [0, 3.6e+06]"},
+      {"serial reconnect beyond an hour",
+       "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"serial\"\n[glove.serial]\ndevice = \"/dev/ttyS0\"\n"
+       "reconnect_ms = 1e13\n",
+       "glove.serial.reconnect_ms", 7, "out of range: 1e+13 is not in (0, 3.6e+06]"},
+      // A script for a finger that does not act moves a fingertip nothing reads.
+      {"script for a finger that does not act", R"([model]
+path = "m.ply"
+[glove]
+backend = "sim"
+fingers = ["thumb", "middle"]
+[[glove.sim.script]]
+finger = "middle"
+keyframes = [[0, 0, 0, 1]]
 [[glove.sim.script]]
 finger = "index"
 keyframes = [[0, 0, 0, 1]]
 )",
-       "glove.sim.dropout", 6, "out of range: 1 is not in [0, 1)"},
+       "glove.sim.script[1]", 10,
+       "hand 0 finger 'index' does not act: glove.fingers is ['thumb', 'middle']; add it there or remove this script"},
+      {"script for a hand that does not act", R"([model]
+path = "m.ply"
+[glove]
+backend = "sim"
+hands = [1]
+[[glove.sim.script]]
+hand = 1
+finger = "index"
+keyframes = [[0, 0, 0, 1]]
+[[glove.sim.script]]
+hand = 0
+finger = 4
+keyframes = [[0, 0, 0, 1]]
+)",
+       "glove.sim.script[1]", 11, "hand 0 finger 'little' does not act: glove.hands is [1]"},
+      {"dropout of 1", sim_scene("dropout = 1.0"), "glove.sim.dropout", 6, "out of range: 1 is not in [0, 1)"},
       {"bad lcm url", kMinimal + "[lcm]\nurl = \"239.255.76.67\"\n", "lcm.url", 9, "is not an LCM URL"},
   };
 }
@@ -673,6 +714,42 @@ TEST(Scene, MalformedScenesNameTheirKeyAndLine) {
       EXPECT_NE(message.find(c.problem), std::string::npos) << message;
     }
   }
+}
+
+// Each time, timeout and rate past its upper bound, appended to kMinimal: refused on its own
+// line (the last of the text), naming the key, with the bound printed by %g.
+TEST(Scene, TimesTimeoutsAndRatesAreBoundedAbove) {
+  struct Bound {
+    std::string tables;  // appended to kMinimal; the bad key is on its last line
+    const char* key;
+    const char* problem;
+  };
+  const std::vector<Bound> bounds = {
+      {"[haptic]\nsink = \"serial\"\n[haptic.serial]\ndevice = \"/dev/ttyS0\"\nreconnect_ms = 1e13\n",
+       "haptic.serial.reconnect_ms", "out of range: 1e+13 is not in (0, 3.6e+06] (milliseconds: at most an hour)"},
+      {"[filter]\nmin_cutoff = 1e9\n", "filter.min_cutoff", "out of range: 1e+09 is not in (0, 10000] (Hz)"},
+      {"[filter]\nd_cutoff = 1e9\n", "filter.d_cutoff", "out of range: 1e+09 is not in (0, 10000] (Hz)"},
+      {"[haptic]\nmax_force_rate = 1e300\n", "haptic.max_force_rate",
+       "out of range: 1e+300 is not in (0, 1e+06] (N/s: 1000 N in a millisecond)"},
+      {"[output]\nlog = \"x.lcmlog\"\nflush_interval_ms = 1e13\n", "output.flush_interval_ms",
+       "out of range: 1e+13 is not in (0, 3.6e+06] (milliseconds: at most an hour)"},
+  };
+  for (const Bound& b : bounds) {
+    SCOPED_TRACE(b.key);
+    const int line = 7 + static_cast<int>(std::count(b.tables.begin(), b.tables.end(), '\n'));
+    try {
+      parse(kMinimal + b.tables);
+      ADD_FAILURE() << "no error";
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.key(), b.key) << e.what();
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_EQ(e.problem(), b.problem) << e.what();
+    }
+  }
+  // At the bounds themselves, accepted.
+  const Scene s = parse(kMinimal + "[filter]\nmin_cutoff = 1e4\n[haptic]\nmax_force_rate = 1e6\n");
+  EXPECT_DOUBLE_EQ(s.filter.min_cutoff, 1e4);
+  EXPECT_DOUBLE_EQ(s.haptic_limits.max_force_rate, 1e6);
 }
 
 TEST(Scene, UnknownKeyMessageIsExact) {

@@ -282,6 +282,96 @@ one_line_error "missing scene named" "none.toml"
 expect_exit 2 "glove-sim needs a transport" -- "$SCULPT" glove-sim "$scenes/sphere-press.toml"
 one_line_error "glove-sim says what it needs" "--serial"
 
+# Times: finite and in range where they are parsed. NaN never stopped a session and 1e308
+# overflowed the end time (it stopped at once); each is refused naming the option, and the
+# range is printed with %g, not as CLI11's 309-digit %f.
+for duration in nan 1e308 inf -1 0; do
+  expect_exit 2 "run --duration $duration refused" -- timeout 20 "$SCULPT" run "$scenes/sphere-press.toml" --duration "$duration" --quiet
+  one_line_error "run --duration $duration named with its range" "--duration: must be a finite number in (0, 3.1536e+07\] (seconds: at most a year), got $duration"
+done
+expect_exit 2 "glove-sim --duration nan refused" -- timeout 20 "$SCULPT" glove-sim "$scenes/sphere-press.toml" --lcm udpm://239.255.76.67:7667?ttl=0 --duration nan
+one_line_error "glove-sim --duration nan named" "--duration: must be a finite number"
+expect_exit 2 "render --elevation out of range" -- "$SCULPT" render "$sphere" --out "$work/x.png" --elevation 100
+one_line_error "render range printed with %g" "--elevation: must be a finite number in \[-90, 90\] (degrees), got 100"
+expect_exit 2 "generate --radius nan refused" -- "$SCULPT" generate sphere --radius nan --out "$work/nan.ply"
+one_line_error "generate --radius nan named" "--radius: must be a finite number in (0, 1e+18)"
+if grep -q '[0-9]\{30\}\|\.[0-9]\{6\}' "$work/err"; then bad "a range printed with %f: $(cat "$work/err")"; else ok "no %f or 309-digit numbers in the range"; fi
+# glove.timeout_ms of 1e13 added to a clock overflowed: every hand was always stale.
+sed 's/^timeout_ms = 100$/timeout_ms = 1e13/' "$scenes/sphere-press.toml" >"$work/timeout.toml"
+grep -q '^timeout_ms = 1e13$' "$work/timeout.toml" || bad "could not set timeout_ms in sphere-press.toml"
+expect_exit 2 "scene glove.timeout_ms = 1e13 refused" -- "$SCULPT" run "$work/timeout.toml" --duration 1 --quiet
+one_line_error "glove.timeout_ms named with its line and range" "timeout.toml:28:[0-9]*: glove.timeout_ms: out of range: 1e+13 is not in (0, 3.6e+06\] (milliseconds: at most an hour)"
+# A script for a finger that does not act (sphere-press scripts the index; only the thumb acts).
+sed 's/^fingers = \["index"\]$/fingers = ["thumb"]/' "$scenes/sphere-press.toml" >"$work/idle.toml"
+grep -q '^fingers = \["thumb"\]$' "$work/idle.toml" || bad "could not set glove.fingers in sphere-press.toml"
+expect_exit 2 "a script for a finger that does not act" -- "$SCULPT" run "$work/idle.toml" --duration 1 --quiet
+one_line_error "the script and its finger named" "idle.toml:[0-9]*:[0-9]*: glove.sim.script\[0\]: hand 0 finger 'index' does not act: glove.fingers is \['thumb'\]"
+expect_exit 2 "glove-sim refuses it too" -- "$SCULPT" glove-sim "$work/idle.toml" --lcm udpm://239.255.76.67:7667?ttl=0
+one_line_error "glove-sim names the script" "glove.sim.script\[0\]: hand 0 finger 'index' does not act"
+
+# One glove backend: --serial and --lcm exclude each other.
+expect_exit 2 "run --serial with --lcm" -- "$SCULPT" run "$scenes/sphere-press.toml" --serial /dev/null --lcm udpm://239.255.76.67:7667 --duration 1
+one_line_error "run names both" "--serial excludes --lcm"
+expect_exit 2 "glove-sim --serial with --lcm" -- "$SCULPT" glove-sim "$scenes/sphere-press.toml" --serial /dev/null --lcm udpm://239.255.76.67:7667
+one_line_error "glove-sim names both" "--serial excludes --lcm"
+# A serial device that is missing or no terminal: one line on stderr (a file here, not a
+# terminal), exit 1, before anything runs. /dev/null used to run with 0 samples, no warning.
+: >"$work/plain-file"
+for device in /dev/null /nonexistent-tty "$work/plain-file" "$work"; do
+  case "$device" in
+    /dev/null) why="a character device but not a terminal" ;;
+    /nonexistent-tty) why="no such device" ;;
+    "$work") why="a folder, not a serial device" ;;
+    *) why="a regular file, not a serial device" ;;
+  esac
+  start_s=$(date +%s)
+  expect_exit 1 "run --serial $(basename "$device") refused" -- timeout 20 "$SCULPT" run "$scenes/sphere-press.toml" --serial "$device" --duration 3 --quiet
+  one_line_error "run --serial $(basename "$device") says why" "sculpt run: error: --serial $device: $why"
+  (( $(date +%s) - start_s < 3 )) && ok "refused before the session" || bad "run --serial $device ran before refusing"
+  expect_exit 1 "glove-sim --serial $(basename "$device") refused" -- timeout 20 "$SCULPT" glove-sim "$scenes/sphere-press.toml" --serial "$device" --duration 3
+  one_line_error "glove-sim --serial $(basename "$device") says why" "sculpt glove-sim: error: --serial $device: $why"
+done
+# The scene's own serial device is named by its key.
+sed 's/^backend = "sim"$/backend = "serial"/; s/^\[glove\.sim\]$/[glove.serial]\ndevice = "\/dev\/null"\n[unused.sim]/' "$scenes/sphere-press.toml" |
+  python3 -c "import sys; t=sys.stdin.read(); print(t[:t.index('[unused.sim]')] + t[t.index('[registration]'):])" >"$work/serial.toml"
+expect_exit 1 "scene glove.serial.device /dev/null refused" -- timeout 20 "$SCULPT" run "$work/serial.toml" --duration 3 --quiet
+one_line_error "glove.serial.device named" "serial.toml: glove.serial.device /dev/null: a character device but not a terminal"
+
+# Unused options are refused, named, exit 2: each would have been silently ignored.
+# unused NAME MESSAGE -- COMMAND...
+unused() {
+  local name="$1" message="$2"
+  shift 3
+  expect_exit 2 "unused: $name" -- "$@"
+  one_line_error "unused: $name named" "$message"
+}
+unused "generate sphere --spacing" "--spacing is not used by sphere (it takes --points and --radius)" -- "$SCULPT" generate sphere --spacing 0.1 --out "$work/u.ply"
+unused "generate box --radius" "--radius is not used by box (it takes --points or --spacing)" -- "$SCULPT" generate box --radius 2 --out "$work/u.ply"
+unused "generate plane --points" "--points is not used by plane (it takes --per-side and --spacing)" -- "$SCULPT" generate plane --points 100 --out "$work/u.ply"
+unused "generate sphere --per-side" "--per-side is not used by sphere" -- "$SCULPT" generate sphere --per-side 5 --out "$work/u.ply"
+unused "generate box --points with --spacing" "--points and --spacing both set the box's grid: give one" -- "$SCULPT" generate box --points 100 --spacing 0.1 --out "$work/u.ply"
+unused "render --arrow-scale without --log" "--arrow-scale requires --log" -- "$SCULPT" render "$sphere" --out "$work/u.png" --arrow-scale 3
+unused "render --azimuth with --view" "--azimuth excludes --view" -- "$SCULPT" render "$sphere" --out "$work/u.png" --view 1,0,0 --azimuth 40
+unused "render --elevation with --view" "--elevation excludes --view" -- "$SCULPT" render "$sphere" --out "$work/u.png" --view 1,0,0 --elevation 40
+unused "deform --encoding without a .ply --out" "--encoding applies only to a .ply --out, not $work/u.xyz" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/u.xyz" --encoding ascii
+unused "deform --encoding without --out" "--encoding applies only to a .ply --out (no --out given)" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --encoding ascii
+unused "deform --border-weight without --region" "--border-weight requires --region" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --border-weight 2
+unused "deform --reference on a model with normals" "--reference is not used: $sphere has normals" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --reference 0,0,10
+unused "glove-sim --channel with --serial" "--channel requires --lcm" -- "$SCULPT" glove-sim "$scenes/sphere-press.toml" --serial /dev/null --channel X
+expect_exit 0 "deform --encoding with a .ply --out" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/ascii.ply" --encoding ascii
+head -2 "$work/ascii.ply" | grep -q "format ascii" && ok "--encoding ascii used" || bad "--encoding ascii not used"
+
+# generate box --points was ignored (always 15,002 points): now the nearest box grid.
+expect_exit 0 "generate box --points 100" -- "$SCULPT" generate box --points 100 --out "$work/box100.ply"
+if grep -q "wrote $work/box100.ply: 98 points with normals (4 intervals per edge" "$work/out" &&
+   [[ "$(head -c 300 "$work/box100.ply" | grep -a '^element vertex')" == "element vertex 98" ]]; then
+  ok "box --points 100 gives the nearest grid, 98 points"
+else
+  bad "box --points 100: $(cat "$work/out")"
+fi
+expect_exit 0 "generate box --points 15000" -- "$SCULPT" generate box --points 15000 --out "$work/box15k.ply"
+[[ "$(head -c 300 "$work/box15k.ply" | grep -a '^element vertex')" == "element vertex 15002" ]] && ok "box --points 15000 gives 15,002 points" || bad "box --points 15000: $(cat "$work/out")"
+
 # Playback. A session recorded by the station (sphere-squeeze writes its log)...
 sed "s|\.\./data/|$repo/data/|; s|\.\./out/|$work/|g" "$scenes/sphere-squeeze.toml" > "$work/squeeze.toml"
 expect_exit 0 "record a session" -- "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet
@@ -376,7 +466,7 @@ cmp -s "$work/model-copy.ply" "$sphere" && ok "the model is untouched" || bad "-
 expect_exit 2 "--json naming the log" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --json "$work/../$(basename "$work")/sphere-squeeze.lcmlog"
 one_line_error "--json naming the log refused" "is the log"
 ln -s "$sphere" "$work/base-link.ply"
-expect_exit 2 "--out naming the scene's base model through a link" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/sphere500.ply" --scene "$work/squeeze.toml" --mode transfer --out "$work/base-link.ply"
+expect_exit 2 "--out naming the scene's base model through a link" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/sphere500.ply" --scene "$work/squeeze.toml" --mode both --out "$work/base-link.ply"
 one_line_error "--out naming the scene's base model refused" "the scene's base model"
 expect_exit 2 "replay --out with an unknown format" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/result.obj"
 one_line_error "replay format refused" "result.obj"
@@ -425,6 +515,13 @@ expect_json "the stroke's events left out" "j['transfer']['events'] == j['collis
 cmp -s "$work/undo.ply" "$work/transfer.ply" && bad "dropping a stroke changed nothing" || ok "dropping a stroke changes the model"
 expect_exit 2 "--drop-stroke past the last stroke" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --drop-stroke 99
 one_line_error "--drop-stroke names the count" "strokes (see --list)"
+unused "replay --list --model" "--model excludes --list" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --list --model "$sphere"
+unused "replay --list --out" "--out excludes --list" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --list --out "$work/u.ply"
+unused "replay --scene with --mode transfer" "--scene is not used by --mode transfer" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode transfer
+unused "replay --scene with --until-frame" "--scene is not used by --mode transfer (--until-frame and --drop-stroke transfer the edited events)" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --until-frame 3
+# sculpt render --log reads the log with replay's walk: damage is skipped and counted.
+expect_exit 0 "render a session over its model" -- "$SCULPT" render "$work/sphere-squeeze.ply" --log "$work/corrupt.lcmlog" --arrow-scale 3 --out "$work/session.png" --size 64x64
+if grep -q "^log      $work/corrupt.lcmlog: [1-9][0-9]* collision events, [1-9][0-9]* fingertip states, [1-9][0-9]* skipped" "$work/out" && grep -q "^skipped  .*byte offset" "$work/err"; then ok "render --log draws the events and names the damage"; else bad "render --log: $(cat "$work/out" "$work/err")"; fi
 # The thesis's reduced model set: record on 10 % of a 40,000-point sphere, transfer to all of it.
 expect_exit 0 "generate 40k sphere" -- "$SCULPT" generate sphere --points 40000 --out "$work/sphere40k.ply"
 sed "s|path = \"\.\./data/sphere_3203.ply\"|path = \"$work/sphere40k.ply\"|; s|\.\./out/|$work/r40k-|g; s|^\[heuristic\]|[heuristic]\nreduced_ratio = 0.1|" "$scenes/sphere-squeeze.toml" > "$work/reduced.toml"

@@ -1,0 +1,28 @@
+#pragma once
+// Every event of a log file in order, going on past damage: the loop over EventLogReader that
+// each reader of a whole log (sculpt replay, sculpt render --log) would otherwise write again,
+// with the same care for where the damage was.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "sculpt/logging/event_log_reader.hpp"
+
+namespace sculpt::logging {
+
+/// What the walk saw of the file as a whole.
+struct EventLogTotals {
+  std::uint64_t file_size = 0;
+  std::uint64_t skipped_bytes = 0;  ///< passed over while resynchronising (a cut tail included)
+  std::uint64_t corrupt = 0;        ///< places where the bytes were not a valid event
+};
+
+/// Reads `path` from start to end: `on_event` for each valid event, in file order, and
+/// `on_damage(offset, what)` for each place that is not one, `what` being "<path>: byte offset
+/// N: ..." (EventLogReader::error()). Reading resumes at the next plausible event.
+/// @throw LogFileError when the file cannot be opened or read (not damage in it).
+EventLogTotals for_each_event(const std::string& path, const std::function<void(const LogEvent&)>& on_event,
+                              const std::function<void(std::uint64_t offset, const std::string& what)>& on_damage);
+
+}  // namespace sculpt::logging
