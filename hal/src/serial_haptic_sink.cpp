@@ -24,8 +24,8 @@ constexpr int kPollTimeoutMs = 100;
 
 }  // namespace
 
-SerialHapticSink::SerialHapticSink(const SerialConfig& config, std::size_t queue_capacity)
-    : config_(config), queue_(queue_capacity == 0 ? 2 : queue_capacity) {
+SerialHapticSink::SerialHapticSink(const SerialConfig& config, std::size_t queue_capacity, BacklogProbe backlog)
+    : config_(config), queue_(queue_capacity == 0 ? 2 : queue_capacity), backlog_(backlog) {
   validate_serial_config(config_, "serial haptic sink");
   if (queue_capacity == 0) {
     throw std::invalid_argument("serial haptic sink " + config_.device + ": queue_capacity must be > 0");
@@ -144,21 +144,27 @@ void SerialHapticSink::deliver(const HapticCommand& command) noexcept {
   }
 }
 
-void SerialHapticSink::drain_queue() noexcept {
+bool SerialHapticSink::drain_queue() noexcept {
   // Everything queued while the last frame was on the wire is older than the newest command
   // of its hand: only that one is sent (see the class comment).
-  std::array<HapticCommand, kHands> newest{};
-  std::array<bool, kHands> pending{};
   HapticCommand command;
   while (queue_.pop(command)) {
     const std::size_t hand = command.hand < kHands ? command.hand : kHands - 1;
-    if (pending[hand]) superseded_.fetch_add(1, std::memory_order_relaxed);
-    newest[hand] = command;
-    pending[hand] = true;
+    if (holding_[hand]) superseded_.fetch_add(1, std::memory_order_relaxed);
+    held_[hand] = command;
+    holding_[hand] = true;
   }
+  bool waiting = false;
   for (std::size_t hand = 0; hand < kHands; ++hand) {
-    if (pending[hand]) deliver(newest[hand]);
+    if (!holding_[hand]) continue;
+    if (port_.is_open() && backlog_(port_.fd()) > kMaxBacklogBytes) {
+      waiting = true;  // the driver still holds a frame's worth: write when it has sent it
+      continue;
+    }
+    deliver(held_[hand]);
+    holding_[hand] = false;
   }
+  return waiting;
 }
 
 void SerialHapticSink::run() noexcept {
@@ -166,8 +172,9 @@ void SerialHapticSink::run() noexcept {
   const auto interval = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double, std::milli>(config_.reconnect_interval_ms));
   auto next_attempt = Clock::now() + interval;
+  bool held_back = false;
   while (!stop_requested_.load(std::memory_order_acquire)) {
-    int timeout_ms = kPollTimeoutMs;
+    int timeout_ms = held_back ? 1 : kPollTimeoutMs;
     if (!port_.is_open()) {
       const auto now = Clock::now();
       if (now >= next_attempt) {
@@ -192,7 +199,8 @@ void SerialHapticSink::run() noexcept {
       std::uint64_t value = 0;
       [[maybe_unused]] const ssize_t n = ::read(wake_fd_, &value, sizeof value);
     }
-    drain_queue();
+    // A held command is retried after about one frame time at 921,600 baud.
+    held_back = drain_queue();
     if (!port_.is_open() && connected_.load(std::memory_order_relaxed)) {
       connected_.store(false, std::memory_order_release);
     }

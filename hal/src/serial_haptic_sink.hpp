@@ -26,15 +26,26 @@ namespace sculpt::hal {
 /// 1 kHz needs about 87 kB/s against about 92 kB/s at 921,600 baud; two hands do not fit).
 /// Each time the writer gets to the queue it therefore sends only the newest command of each
 /// hand and counts the older ones as superseded(): the line runs as fast as it can with the
-/// newest force, and never drains a backlog of old ones.
+/// newest force, and never drains a backlog of old ones. Nor may the driver: a UART driver
+/// buffers about 4 KB (45 ms at 921,600 baud) behind which every new frame would wait, so a
+/// frame is written only while at most kMaxBacklogBytes are still unsent; until then the newest
+/// command of each hand is held, and a newer one supersedes it. A command therefore reaches the
+/// wire at most about two frame times after the writer takes it.
 class SerialHapticSink final : public HapticSink {
  public:
   /// How long one frame may wait for room on the device before it is dropped.
   static constexpr int kWriteTimeoutMs = 50;
+  /// The most unsent bytes a new frame may queue behind: one haptic frame on the wire (its
+  /// body, COBS's overhead byte per 254 and the delimiter).
+  static constexpr std::size_t kMaxBacklogBytes = kHapticBodyBytes + kHapticBodyBytes / 254 + 2;
+  /// Bytes written to `fd` and not yet on the wire. SerialPort::output_pending (TIOCOUTQ) by
+  /// default; tests of a pty, where that is always 0, give what the reader has not read.
+  using BacklogProbe = std::size_t (*)(int fd) noexcept;
 
   /// Validates the configuration and allocates the queue. Opens nothing yet.
   /// @throw std::invalid_argument naming the field (as SerialGloveSource)
-  SerialHapticSink(const SerialConfig& config, std::size_t queue_capacity);
+  SerialHapticSink(const SerialConfig& config, std::size_t queue_capacity,
+                   BacklogProbe backlog = &SerialPort::output_pending);
   ~SerialHapticSink() override;
   SerialHapticSink(const SerialHapticSink&) = delete;
   SerialHapticSink& operator=(const SerialHapticSink&) = delete;
@@ -61,7 +72,8 @@ class SerialHapticSink final : public HapticSink {
  private:
   void run() noexcept;
   bool try_connect() noexcept;
-  void drain_queue() noexcept;
+  /// Sends the newest command of each hand; true when one is held back for the backlog.
+  bool drain_queue() noexcept;
   /// Writes the whole frame, or gives up after kWriteTimeoutMs; `sent` counts bytes written.
   bool write_frame(std::span<const std::uint8_t> frame, std::size_t& sent) noexcept;
   void deliver(const HapticCommand& command) noexcept;
@@ -73,6 +85,10 @@ class SerialHapticSink final : public HapticSink {
   /// short by a write timeout, so the glove's decoder drops the cut frame, not the next one.
   std::array<std::uint8_t, 1 + kMaxFrameBytes> frame_{};
   bool cut_frame_on_line_ = false;
+  BacklogProbe backlog_;
+  /// The newest command of each hand not yet written (waiting for the driver's backlog).
+  std::array<HapticCommand, kHands> held_{};
+  std::array<bool, kHands> holding_{};
   std::uint32_t sequence_ = 0;
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<std::uint64_t> written_{0};

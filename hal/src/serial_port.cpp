@@ -4,6 +4,7 @@
 #include <string>
 #include <cmath>
 #include <fcntl.h>
+#include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -125,6 +126,12 @@ IoResult SerialPort::read(std::span<std::uint8_t> out) noexcept {
     if (errno == EAGAIN || errno == EWOULDBLOCK) return {IoStatus::kWouldBlock, 0, 0};
     return {IoStatus::kGone, 0, errno};
   }
+}
+
+std::size_t SerialPort::output_pending(int fd) noexcept {
+  int pending = 0;
+  if (fd < 0 || ::ioctl(fd, TIOCOUTQ, &pending) != 0 || pending < 0) return 0;
+  return static_cast<std::size_t>(pending);
 }
 
 IoResult SerialPort::write(std::span<const std::uint8_t> bytes) noexcept {

@@ -7,10 +7,12 @@
 
 #include <gtest/gtest.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <pty.h>
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -346,6 +348,68 @@ TEST(SerialHapticSink, ASlowLineCarriesTheNewestCommandAndNeverABacklog) {
   std::printf("[ serial ] %u commands: %zu frames on the line, %llu superseded, %llu dropped\n", kCommands + 1,
               ticks.size(), static_cast<unsigned long long>(sink.superseded()),
               static_cast<unsigned long long>(sink.dropped()));
+}
+
+// A pty has no driver buffer to ask about (TIOCOUTQ is always 0 there): what waits on this
+// line is what the glove end has not read yet.
+std::atomic<int> line_master{-1};
+std::size_t unread_on_line(int) noexcept {
+  int unread = 0;
+  return ::ioctl(line_master.load(), FIONREAD, &unread) == 0 && unread > 0 ? static_cast<std::size_t>(unread) : 0;
+}
+
+TEST(SerialHapticSink, KeepsTheLinesBacklogToAFrameSoCommandsArriveFresh) {
+  // The glove reads one frame's worth every 5 ms, a line about 17 kB/s: far slower than the
+  // loop's commands at 1 kHz. Without a bound on what waits in the driver, each frame would
+  // queue behind about 4 KB (47 frames, a quarter of a second here); with it, a frame read is
+  // at most a few reads old.
+  Pty pty;
+  line_master = pty.master();
+  SerialHapticSink sink(config_for(pty.slave_path()), 256, &unread_on_line);
+  sink.start();
+  ASSERT_TRUE(sink.connected());
+  std::atomic<std::uint32_t> now_tick{0};
+  std::atomic<bool> done{false};
+  std::vector<std::uint32_t> ages;
+  std::size_t most_unread = 0;
+  std::thread glove([&] {
+    FrameDecoder decoder;
+    std::array<std::uint8_t, 87> buffer{};
+    while (!done.load()) {
+      most_unread = std::max(most_unread, unread_on_line(0));
+      pollfd in{pty.master(), POLLIN, 0};
+      if (::poll(&in, 1, 5) > 0) {
+        const ssize_t n = ::read(pty.master(), buffer.data(), buffer.size());
+        if (n > 0) {
+          decoder.feed(std::span<const std::uint8_t>(buffer.data(), static_cast<std::size_t>(n)),
+                       [&](const DecodedFrame& f) {
+                         if (f.type == DecodedFrame::Type::kHaptic) ages.push_back(now_tick.load() - f.haptic.tick);
+                       });
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  });
+  for (std::uint32_t t = 0; t < 1500; ++t) {
+    now_tick = t;
+    sink.send(command(t));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  done = true;
+  glove.join();
+  sink.stop();
+  ASSERT_GT(ages.size(), 50u) << "the glove read too few frames to judge";
+  const std::uint32_t oldest = *std::max_element(ages.begin(), ages.end());
+  std::printf(
+      "[ serial ] slow glove: %zu frames read, oldest %u ticks old, at most %zu bytes unread, %llu superseded\n",
+      ages.size(), oldest, most_unread, static_cast<unsigned long long>(sink.superseded()));
+  // A few 5 ms reads of slack for a loaded machine; a backlog of 4 KB would be ~235 ticks.
+  EXPECT_LE(oldest, 60u);
+  // The pty hands written bytes to the reader's buffer through a kernel work queue, so on a
+  // loaded machine the probe lags writes by several frames: a bound of a quarter of the 4 KB
+  // that waits without the limit. The age above is what the hand feels.
+  EXPECT_LE(most_unread, 1024u);
+  EXPECT_GT(sink.superseded(), 0u);
 }
 
 }  // namespace

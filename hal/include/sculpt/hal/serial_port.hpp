@@ -65,6 +65,10 @@ class SerialPort {
   /// Writes as much of `bytes` as the device takes now; never blocks.
   IoResult write(std::span<const std::uint8_t> bytes) noexcept;
 
+  /// Bytes written but not yet sent by the driver (TIOCOUTQ); 0 when closed or unknown. A pty
+  /// always reports 0: its bytes wait in the reader's buffer instead.
+  static std::size_t output_pending(int fd) noexcept;
+
   /// True for the rates the termios table knows (50 .. 4000000).
   static bool is_standard_baud(int baud) noexcept;
 
