@@ -22,6 +22,7 @@ PACKAGES=(
   libcgal-demo zlib1g-dev
   libosmesa6-dev libglfw3-dev libgl-dev xvfb xdotool
   clang-format clang-tidy
+  openjdk-17-jdk-headless liblcm-java libjchart2d-java python3-matplotlib
   python3
 )
 
