@@ -40,16 +40,19 @@ SourceTable<T> make_table(const Kernel& kernel, std::span<const SourceForce> sou
   return t;
 }
 
-// Points are processed in blocks: positions are gathered into small stack arrays, every source
-// is added over the whole block (the innermost loop runs over points, so it vectorises), then
-// the block is written back. The loop over sources stays outside: with at most ten of them an
-// inner loop over sources would be too short to vectorise.
+// Points are processed in blocks: every source is added over the whole block (the innermost
+// loop runs over points, so it vectorises), then one pass per point finishes the block. The
+// loop over sources stays outside: with at most ten of them an inner loop over sources would
+// be too short to vectorise. A block reads its positions in place when the points are
+// contiguous (every point moves) and from a gathered copy otherwise.
 constexpr std::size_t kBlock = 128;
 
 template <typename T>
 struct Block {
   std::size_t size = 0;
-  alignas(64) T qx[kBlock], qy[kBlock], qz[kBlock];
+  const float* qx = nullptr;  // positions before the frame
+  const float* qy = nullptr;
+  const float* qz = nullptr;
   alignas(64) T ux[kBlock], uy[kBlock], uz[kBlock];
 };
 
@@ -70,53 +73,74 @@ struct GradientBlock {
 //   a = g'(r)/r f + h'(r)/r (r.f) r,  b = h r,  h = gamma/r^3,
 // and fused multiply-adds (one rounding each, exact IEEE operations; the build's ISO mode does
 // not contract a*b+c on its own).
+template <typename T, bool kGradient, bool kFirst>
+void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb);
+
 template <typename T, bool kGradient>
 void add_sources(const SourceTable<T>& t, Block<T>& b, GradientBlock<T>& gb) {
-  const std::size_t n = b.size;
-  for (std::size_t k = 0; k < n; ++k) b.ux[k] = b.uy[k] = b.uz[k] = T(0);
-  if constexpr (kGradient) {
-    for (int l = 0; l < 3; ++l)
-      for (int m = 0; m < 3; ++m)
-        for (std::size_t k = 0; k < n; ++k) gb.g[l][m][k] = T(0);
+  for (std::size_t s = 0; s < t.count; ++s) {
+    if (s == 0) {
+      add_source<T, kGradient, true>(t, s, b, gb);
+    } else {
+      add_source<T, kGradient, false>(t, s, b, gb);
+    }
   }
+}
+
+// One source over the block. The first one starts the sums from zero in registers (same
+// values as adding to zeroed arrays, without clearing twelve arrays per block first).
+template <typename T, bool kGradient, bool kFirst>
+void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb) {
+  const std::size_t n = b.size;
   const T alpha = t.alpha, beta = t.beta, gamma = t.gamma, eps2 = t.eps2;
   const T minus_alpha = -alpha, minus_3beta = -(T(3) * beta), minus_3gamma = T(-3) * gamma;
-  for (std::size_t s = 0; s < t.count; ++s) {
-    const T px = t.px[s], py = t.py[s], pz = t.pz[s];
-    const T fx = t.fx[s], fy = t.fy[s], fz = t.fz[s];
+  const T px = t.px[s], py = t.py[s], pz = t.pz[s];
+  const T fx = t.fx[s], fy = t.fy[s], fz = t.fz[s];
+  const float* __restrict qx = b.qx;
+  const float* __restrict qy = b.qy;
+  const float* __restrict qz = b.qz;
+  // The running sum at k; the first source reads nothing.
+  auto sum = [](const T* acc, std::size_t k) {
+    if constexpr (kFirst) {
+      (void)acc;
+      (void)k;
+      return T(0);
+    } else {
+      return acc[k];
+    }
+  };
 #pragma GCC ivdep
-    for (std::size_t k = 0; k < n; ++k) {
-      const T rx = b.qx[k] - px, ry = b.qy[k] - py, rz = b.qz[k] - pz;
-      const T r2 = rx * rx + ry * ry + rz * rz + eps2;
-      const T inv = T(1) / std::sqrt(r2);
-      const T inv2 = inv * inv;
-      const T inv3 = inv2 * inv;
-      const T rf = rx * fx + ry * fy + rz * fz;
-      const T diag = alpha * inv + beta * inv3;
-      const T h = gamma * inv3;
-      const T radial = h * rf;
-      b.ux[k] += diag * fx + radial * rx;
-      b.uy[k] += diag * fy + radial * ry;
-      b.uz[k] += diag * fz + radial * rz;
-      if constexpr (kGradient) {
-        const T inv5 = inv3 * inv2;
-        const T g_prime = std::fma(minus_3beta, inv5, minus_alpha * inv3);
-        const T h_prime_rf = minus_3gamma * inv5 * rf;
-        const T ax = std::fma(g_prime, fx, h_prime_rf * rx);
-        const T ay = std::fma(g_prime, fy, h_prime_rf * ry);
-        const T az = std::fma(g_prime, fz, h_prime_rf * rz);
-        const T bx = h * rx, by = h * ry, bz = h * rz;
-        auto& g = gb.g;
-        g[0][0][k] = std::fma(ax, rx, std::fma(bx, fx, g[0][0][k] + radial));
-        g[0][1][k] = std::fma(ax, ry, std::fma(bx, fy, g[0][1][k]));
-        g[0][2][k] = std::fma(ax, rz, std::fma(bx, fz, g[0][2][k]));
-        g[1][0][k] = std::fma(ay, rx, std::fma(by, fx, g[1][0][k]));
-        g[1][1][k] = std::fma(ay, ry, std::fma(by, fy, g[1][1][k] + radial));
-        g[1][2][k] = std::fma(ay, rz, std::fma(by, fz, g[1][2][k]));
-        g[2][0][k] = std::fma(az, rx, std::fma(bz, fx, g[2][0][k]));
-        g[2][1][k] = std::fma(az, ry, std::fma(bz, fy, g[2][1][k]));
-        g[2][2][k] = std::fma(az, rz, std::fma(bz, fz, g[2][2][k] + radial));
-      }
+  for (std::size_t k = 0; k < n; ++k) {
+    const T rx = T(qx[k]) - px, ry = T(qy[k]) - py, rz = T(qz[k]) - pz;
+    const T r2 = rx * rx + ry * ry + rz * rz + eps2;
+    const T inv = T(1) / std::sqrt(r2);
+    const T inv2 = inv * inv;
+    const T inv3 = inv2 * inv;
+    const T rf = rx * fx + ry * fy + rz * fz;
+    const T diag = alpha * inv + beta * inv3;
+    const T h = gamma * inv3;
+    const T radial = h * rf;
+    b.ux[k] = sum(b.ux, k) + (diag * fx + radial * rx);
+    b.uy[k] = sum(b.uy, k) + (diag * fy + radial * ry);
+    b.uz[k] = sum(b.uz, k) + (diag * fz + radial * rz);
+    if constexpr (kGradient) {
+      const T inv5 = inv3 * inv2;
+      const T g_prime = std::fma(minus_3beta, inv5, minus_alpha * inv3);
+      const T h_prime_rf = minus_3gamma * inv5 * rf;
+      const T ax = std::fma(g_prime, fx, h_prime_rf * rx);
+      const T ay = std::fma(g_prime, fy, h_prime_rf * ry);
+      const T az = std::fma(g_prime, fz, h_prime_rf * rz);
+      const T bx = h * rx, by = h * ry, bz = h * rz;
+      auto& g = gb.g;
+      g[0][0][k] = std::fma(ax, rx, std::fma(bx, fx, sum(g[0][0], k) + radial));
+      g[0][1][k] = std::fma(ax, ry, std::fma(bx, fy, sum(g[0][1], k)));
+      g[0][2][k] = std::fma(ax, rz, std::fma(bx, fz, sum(g[0][2], k)));
+      g[1][0][k] = std::fma(ay, rx, std::fma(by, fx, sum(g[1][0], k)));
+      g[1][1][k] = std::fma(ay, ry, std::fma(by, fy, sum(g[1][1], k) + radial));
+      g[1][2][k] = std::fma(ay, rz, std::fma(by, fz, sum(g[1][2], k)));
+      g[2][0][k] = std::fma(az, rx, std::fma(bz, fx, sum(g[2][0], k)));
+      g[2][1][k] = std::fma(az, ry, std::fma(bz, fy, sum(g[2][1], k)));
+      g[2][2][k] = std::fma(az, rz, std::fma(bz, fz, sum(g[2][2], k) + radial));
     }
   }
 }
@@ -156,6 +180,34 @@ inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, float& n
   return det;
 }
 
+// The per-point end of a block, in place: each iteration reads its point's old position and
+// normal before writing them. The arrays are distinct (model arrays or the block's copies);
+// saying so lets the loop vectorise without run-time overlap checks.
+template <typename T, bool kGradient, bool kCarry>
+void finish_block(const GradientBlock<T>& gb, const Block<T>& b, std::size_t n, float* __restrict x,
+                  float* __restrict y, float* __restrict z, float* __restrict nx, float* __restrict ny,
+                  float* __restrict nz, T* __restrict dets, T* __restrict lane_min_det,
+                  T* __restrict lane_max_squared) {
+  for (std::size_t k = 0; k < n; ++k) {
+    if constexpr (kGradient) {
+      T det;
+      if constexpr (kCarry) {
+        det = jacobian_and_normal<T, true>(gb, k, nx[k], ny[k], nz[k]);
+      } else {
+        float unused = 0.0f;
+        det = jacobian_and_normal<T, false>(gb, k, unused, unused, unused);
+      }
+      dets[k] = det;
+      lane_min_det[k] = det < lane_min_det[k] ? det : lane_min_det[k];
+    }
+    x[k] = static_cast<float>(T(x[k]) + b.ux[k]);
+    y[k] = static_cast<float>(T(y[k]) + b.uy[k]);
+    z[k] = static_cast<float>(T(z[k]) + b.uz[k]);
+    const T u2 = b.ux[k] * b.ux[k] + b.uy[k] * b.uy[k] + b.uz[k] * b.uz[k];
+    lane_max_squared[k] = u2 > lane_max_squared[k] ? u2 : lane_max_squared[k];
+  }
+}
+
 // Non-zero when any of the n values is infinite or NaN (all exponent bits set). Integer OR
 // reductions may be reordered, so this vectorises where a float sum would not.
 template <typename T>
@@ -178,12 +230,17 @@ std::uint32_t non_finite_bits(const T* v, std::size_t n) {
 // construction of the reservation (the caller reserves for every point a frame may move).
 struct JournalWriter {
   UndoJournal& j;
-  template <typename IndexOf>
+  // kContiguous: the pass moves points 0, 1, 2, ... in order, so the journal notes that once
+  // instead of writing an index per point (a 400 kB stream per frame at 100,000 points).
+  template <bool kContiguous, typename IndexOf>
   void record(IndexOf index_of, std::size_t begin, std::size_t n, const float* x, const float* y, const float* z,
               const float* nx, const float* ny, const float* nz) const noexcept {
     const std::size_t at = j.count_;
     if (at + n > j.index_.size()) return;  // cannot happen with the reservation the contract asks for
-    for (std::size_t k = 0; k < n; ++k) j.index_[at + k] = static_cast<std::uint32_t>(index_of(begin + k));
+    j.contiguous_ = kContiguous;
+    if constexpr (!kContiguous) {
+      for (std::size_t k = 0; k < n; ++k) j.index_[at + k] = static_cast<std::uint32_t>(index_of(begin + k));
+    }
     std::memcpy(j.x_.data() + at, x, n * sizeof(float));
     std::memcpy(j.y_.data() + at, y, n * sizeof(float));
     std::memcpy(j.z_.data() + at, z, n * sizeof(float));
@@ -211,7 +268,7 @@ void UndoJournal::reserve(std::size_t points, bool normals) {
 void UndoJournal::restore(PointModel& model) const noexcept {
   const bool normals = normals_ && model.has_normals();
   for (std::size_t k = 0; k < count_; ++k) {
-    const std::size_t i = index_[k];
+    const std::size_t i = contiguous_ ? k : index_[k];
     model.x[i] = x_[k];
     model.y[i] = y_[k];
     model.z[i] = z_[k];
@@ -225,24 +282,21 @@ void UndoJournal::restore(PointModel& model) const noexcept {
 
 namespace {
 
-// Each block: gather positions (and normals), record them in the journal, add every source's
+// Each block: record the old positions (and normals) in the journal, add every source's
 // displacement (and gradient) into block arrays, then one pass per point for the Jacobian, the
-// carried normal, the new position and the running extremes, a bit test for non-finite values,
-// and the scatter back. The extremes are kept per block lane and reduced once at the end: a
-// running scalar max/min does not vectorise without fast-math, lane-wise selects do, and max
-// and min are exact whatever the order.
-template <typename T, bool kGradient, bool kCarry, typename IndexOf>
+// carried normal, the new position and the running extremes, and a bit test for non-finite
+// values. When every point moves (kContiguous) the block works in place on the model's arrays;
+// otherwise on a gathered copy, scattered back at the end. The extremes are kept per block
+// lane and reduced once at the end: a running scalar max/min does not vectorise without
+// fast-math, lane-wise selects do, and max and min are exact whatever the order.
+template <typename T, bool kGradient, bool kCarry, bool kContiguous, typename IndexOf>
 FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
                         UndoJournal* journal) {
   static_assert(kGradient || !kCarry, "carrying normals needs the gradient");
-  float* __restrict x = model.x.data();
-  float* __restrict y = model.y.data();
-  float* __restrict z = model.z.data();
   Block<T> b;
   GradientBlock<T> gb;
-  alignas(64) float px[kBlock], py[kBlock], pz[kBlock];  // new positions
-  alignas(64) float ox[kBlock], oy[kBlock], oz[kBlock];  // old positions, for the journal
-  alignas(64) float nx[kBlock], ny[kBlock], nz[kBlock];  // normals, old then carried
+  alignas(64) float gx[kBlock], gy[kBlock], gz[kBlock];     // gathered positions
+  alignas(64) float gnx[kBlock], gny[kBlock], gnz[kBlock];  // gathered normals
   alignas(64) T dets[kBlock];
   alignas(64) T lane_max_squared[kBlock];
   alignas(64) T lane_min_det[kBlock];
@@ -254,55 +308,64 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
   if (journal) journal->clear();
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
-    b.size = n;
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t i = index_of(begin + k);
-      ox[k] = x[i];
-      oy[k] = y[i];
-      oz[k] = z[i];
-      b.qx[k] = ox[k];
-      b.qy[k] = oy[k];
-      b.qz[k] = oz[k];
-    }
-    if constexpr (kCarry) {
+    float *x, *y, *z, *nx = nullptr, *ny = nullptr, *nz = nullptr;
+    if constexpr (kContiguous) {
+      x = model.x.data() + begin;
+      y = model.y.data() + begin;
+      z = model.z.data() + begin;
+      if constexpr (kCarry) {
+        nx = model.nx.data() + begin;
+        ny = model.ny.data() + begin;
+        nz = model.nz.data() + begin;
+      }
+    } else {
+      x = gx;
+      y = gy;
+      z = gz;
       for (std::size_t k = 0; k < n; ++k) {
         const std::size_t i = index_of(begin + k);
-        nx[k] = model.nx[i];
-        ny[k] = model.ny[i];
-        nz[k] = model.nz[i];
+        gx[k] = model.x[i];
+        gy[k] = model.y[i];
+        gz[k] = model.z[i];
+      }
+      if constexpr (kCarry) {
+        nx = gnx;
+        ny = gny;
+        nz = gnz;
+        for (std::size_t k = 0; k < n; ++k) {
+          const std::size_t i = index_of(begin + k);
+          gnx[k] = model.nx[i];
+          gny[k] = model.ny[i];
+          gnz[k] = model.nz[i];
+        }
       }
     }
     if (journal) {
-      JournalWriter{*journal}.record(index_of, begin, n, ox, oy, oz, kCarry ? nx : nullptr, ny, nz);
+      JournalWriter{*journal}.record<kContiguous>(index_of, begin, n, x, y, z, nx, ny, nz);
     }
+    b.size = n;
+    b.qx = x;
+    b.qy = y;
+    b.qz = z;
     add_sources<T, kGradient>(t, b, gb);
-    for (std::size_t k = 0; k < n; ++k) {
-      if constexpr (kGradient) {
-        const T det = jacobian_and_normal<T, kCarry>(gb, k, nx[k], ny[k], nz[k]);
-        dets[k] = det;
-        lane_min_det[k] = det < lane_min_det[k] ? det : lane_min_det[k];
-      }
-      px[k] = static_cast<float>(b.qx[k] + b.ux[k]);
-      py[k] = static_cast<float>(b.qy[k] + b.uy[k]);
-      pz[k] = static_cast<float>(b.qz[k] + b.uz[k]);
-      const T u2 = b.ux[k] * b.ux[k] + b.uy[k] * b.uy[k] + b.uz[k] * b.uz[k];
-      lane_max_squared[k] = u2 > lane_max_squared[k] ? u2 : lane_max_squared[k];
-    }
+    finish_block<T, kGradient, kCarry>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
     if constexpr (kGradient) bad |= non_finite_bits(dets, n);
     if constexpr (kCarry) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
-    bad |= non_finite_bits(px, n) | non_finite_bits(py, n) | non_finite_bits(pz, n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t i = index_of(begin + k);
-      x[i] = px[k];
-      y[i] = py[k];
-      z[i] = pz[k];
-    }
-    if constexpr (kCarry) {
+    bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
+    if constexpr (!kContiguous) {
       for (std::size_t k = 0; k < n; ++k) {
         const std::size_t i = index_of(begin + k);
-        model.nx[i] = nx[k];
-        model.ny[i] = ny[k];
-        model.nz[i] = nz[k];
+        model.x[i] = gx[k];
+        model.y[i] = gy[k];
+        model.z[i] = gz[k];
+      }
+      if constexpr (kCarry) {
+        for (std::size_t k = 0; k < n; ++k) {
+          const std::size_t i = index_of(begin + k);
+          model.nx[i] = gnx[k];
+          model.ny[i] = gny[k];
+          model.nz[i] = gnz[k];
+        }
       }
     }
   }
@@ -320,12 +383,12 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
 }
 
 // The three loop variants as compile-time choices, so none of them tests a flag per point.
-template <typename T, typename IndexOf>
+template <typename T, bool kContiguous, typename IndexOf>
 FieldResult apply_variant(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
                           bool carry_normals, bool jacobian, UndoJournal* journal) {
-  if (carry_normals) return apply_typed<T, true, true>(model, t, count, index_of, journal);
-  if (jacobian) return apply_typed<T, true, false>(model, t, count, index_of, journal);
-  return apply_typed<T, false, false>(model, t, count, index_of, journal);
+  if (carry_normals) return apply_typed<T, true, true, kContiguous>(model, t, count, index_of, journal);
+  if (jacobian) return apply_typed<T, true, false, kContiguous>(model, t, count, index_of, journal);
+  return apply_typed<T, false, false, kContiguous>(model, t, count, index_of, journal);
 }
 
 template <typename T>
@@ -334,11 +397,11 @@ FieldResult apply_in(PointModel& model, const Kernel& kernel, std::span<const So
                      UndoJournal* journal) {
   const SourceTable<T> table = make_table<T>(kernel, sources);
   if (all_points) {
-    return apply_variant(
+    return apply_variant<T, true>(
         model, table, model.size(), [](std::size_t k) { return k; }, carry_normals, jacobian, journal);
   }
   const std::uint32_t* idx = indices.data();
-  return apply_variant(
+  return apply_variant<T, false>(
       model, table, indices.size(), [idx](std::size_t k) { return std::size_t{idx[k]}; }, carry_normals, jacobian,
       journal);
 }
