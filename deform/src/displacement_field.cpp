@@ -282,6 +282,25 @@ void UndoJournal::restore(PointModel& model) const noexcept {
 
 namespace {
 
+// A region block's three attributes between the model (at the indexed points) and the block's
+// copy: gathered when kGather, scattered back otherwise.
+template <bool kGather, typename IndexOf>
+void copy_indexed(IndexOf index_of, std::size_t begin, std::size_t n, std::vector<float>& a, std::vector<float>& b,
+                  std::vector<float>& c, float* ka, float* kb, float* kc) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = index_of(begin + k);
+    if constexpr (kGather) {
+      ka[k] = a[i];
+      kb[k] = b[i];
+      kc[k] = c[i];
+    } else {
+      a[i] = ka[k];
+      b[i] = kb[k];
+      c[i] = kc[k];
+    }
+  }
+}
+
 // Each block: record the old positions (and normals) in the journal, add every source's
 // displacement (and gradient) into block arrays, then one pass per point for the Jacobian, the
 // carried normal, the new position and the running extremes, and a bit test for non-finite
@@ -322,22 +341,12 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
       x = gx;
       y = gy;
       z = gz;
-      for (std::size_t k = 0; k < n; ++k) {
-        const std::size_t i = index_of(begin + k);
-        gx[k] = model.x[i];
-        gy[k] = model.y[i];
-        gz[k] = model.z[i];
-      }
+      copy_indexed<true>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
       if constexpr (kCarry) {
         nx = gnx;
         ny = gny;
         nz = gnz;
-        for (std::size_t k = 0; k < n; ++k) {
-          const std::size_t i = index_of(begin + k);
-          gnx[k] = model.nx[i];
-          gny[k] = model.ny[i];
-          gnz[k] = model.nz[i];
-        }
+        copy_indexed<true>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
       }
     }
     if (journal) {
@@ -353,20 +362,8 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
     if constexpr (kCarry) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
     bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
     if constexpr (!kContiguous) {
-      for (std::size_t k = 0; k < n; ++k) {
-        const std::size_t i = index_of(begin + k);
-        model.x[i] = gx[k];
-        model.y[i] = gy[k];
-        model.z[i] = gz[k];
-      }
-      if constexpr (kCarry) {
-        for (std::size_t k = 0; k < n; ++k) {
-          const std::size_t i = index_of(begin + k);
-          model.nx[i] = gnx[k];
-          model.ny[i] = gny[k];
-          model.nz[i] = gnz[k];
-        }
-      }
+      copy_indexed<false>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
+      if constexpr (kCarry) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
     }
   }
   T max_squared = T(0);
