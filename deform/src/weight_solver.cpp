@@ -22,6 +22,20 @@ constexpr int kMaxUnknowns = 3 * static_cast<int>(kMaxSources);
 using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxUnknowns, kMaxUnknowns>;
 using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxUnknowns, 1>;
 
+// sqrt(a^2 + b^2) without a libm call (std::hypot was a quarter of a region frame, one call
+// per Givens rotation). The plain formula is used where neither square can overflow or
+// underflow (|a|, |b| within 2^-500..2^500, every real row here); outside it the larger
+// magnitude is factored out, as hypot does. Either is within a few ulps of the exact length.
+inline double rotation_length(double a, double b) {
+  constexpr double kSafeMax = 0x1p500, kSafeMin = 0x1p-500;
+  const double big = std::max(std::abs(a), std::abs(b));
+  const double small = std::min(std::abs(a), std::abs(b));
+  if (big < kSafeMax && small > kSafeMin) return std::sqrt(a * a + b * b);
+  if (big == 0.0) return 0.0;
+  const double ratio = small / big;
+  return big * std::sqrt(1.0 + ratio * ratio);
+}
+
 // The upper-triangular factor R of [A | b] built one row at a time with Givens rotations:
 // after all rows, R(0:n, 0:n) is A's R, R(0:n, n) is Q^T b and |R(n, n)| the residual of the
 // unconstrained fit. Each row costs O(n^2) and the whole stays (n + 1)^2 doubles.
@@ -35,8 +49,9 @@ class StreamingQr {
     for (int k = 0; k <= n_; ++k) {
       const double a = r_[k][k], b = row[k];
       if (b == 0.0) continue;
-      const double h = std::hypot(a, b);
-      const double c = a / h, s = b / h;
+      const double h = rotation_length(a, b);
+      const double inv = 1.0 / h;
+      const double c = a * inv, s = b * inv;
       for (int j = k; j <= n_; ++j) {
         const double rk = r_[k][j], xj = row[j];
         r_[k][j] = c * rk + s * xj;

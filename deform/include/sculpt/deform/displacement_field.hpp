@@ -54,6 +54,7 @@ class UndoJournal {
   std::vector<float> x_, y_, z_, nx_, ny_, nz_;
   std::size_t count_ = 0;
   bool normals_ = false;
+  bool contiguous_ = false;  // the recorded points are 0 .. count_ - 1: index_ is not written
 };
 
 /// What a pass of the displacement loop did.
