@@ -189,5 +189,56 @@ TEST(FrameFollower, ALogThatNeverReachesPastTheGapLeavesItDiverged) {
   EXPECT_EQ(f.diverged_frames(), 1);
 }
 
+TEST(FrameFollower, ATickThatCollidedWithoutAFrameIsALossEvenWithNothingAfterIt) {
+  Applied applied;
+  FrameFollower f(applied.sink(), {}, 100 * kMs);
+  quiet_ticks(f, 0, 9, 0);
+  f.tick(10, 1, 0);  // its frame never arrives, and no later frame shows a jump
+  quiet_ticks(f, 11, 20, 0);
+  f.settle(50 * kMs);
+  EXPECT_FALSE(f.diverged());
+  f.settle(150 * kMs);
+  EXPECT_EQ(f.diverged_frames(), 1);
+  EXPECT_TRUE(applied.ids.empty());
+}
+
+TEST(FrameFollower, QuietTicksAreNoLossHoweverMany) {
+  Applied applied;
+  FrameFollower f(applied.sink(), {}, 100 * kMs);
+  quiet_ticks(f, 0, 99'999, 0);
+  f.collision(event(7, 100'000), 1);
+  f.finish();
+  EXPECT_EQ(applied.ids, (std::vector<std::int64_t>{7}));
+  EXPECT_FALSE(f.diverged());
+}
+
+TEST(FrameFollower, AViewerStartedLateThatSawNoFrameStillKnowsItMayHaveMissedSome) {
+  Applied applied;
+  FrameFollower f(applied.sink(), {}, 100 * kMs);
+  quiet_ticks(f, 3000, 3500, 0);  // ticks 0..2999 were before it started
+  f.settle(50 * kMs);
+  EXPECT_FALSE(f.diverged());  // the first ticks it has may yet be followed by the missing ones
+  f.finish();
+  EXPECT_TRUE(f.diverged());
+}
+
+TEST(FrameFollower, AViewerStartedLateCatchesUpTheWholeLog) {
+  Applied applied;
+  const std::vector<logging::CollisionRecord> log = {event(4, 1000), event(5, 1001)};
+  const auto source = [&](std::int64_t first, std::int64_t) {
+    CatchUpResult r;
+    for (const auto& e : log) {
+      if (e.frame_id >= first) r.events.push_back(e);
+    }
+    return r;
+  };
+  FrameFollower f(applied.sink(), source, 100 * kMs);
+  quiet_ticks(f, 3000, 3500, 0);
+  f.finish();
+  EXPECT_EQ(applied.ids, (std::vector<std::int64_t>{4, 5}));
+  EXPECT_FALSE(f.diverged());
+  EXPECT_EQ(f.frames_caught_up(), 2u);
+}
+
 }  // namespace
 }  // namespace sculpt::view

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "render/pinhole.hpp"
@@ -171,6 +172,37 @@ TEST_F(LiveView, TheStationsTickP99IsNoWorseWithAViewerAttached) {
   const auto exits = lines_starting(read_text(dir_ / "view.txt"), "view: exit ");
   if (!exits.empty()) std::printf("[ view ] %s\n", exits.front().c_str());
   EXPECT_LE(watched, std::max(1.5 * alone, alone + 150.0));
+}
+
+TEST_F(LiveView, AViewerStartedLateCatchesUpFromTheLogOrSaysItDiverged) {
+  const std::string url = private_url(2);
+  const fs::path scene = press_scene("[lcm]\npublish = true\nurl = \"" + url + "\"");
+  const fs::path log = dir_ / "sphere-press.lcmlog", caught = dir_ / "caught.ply", blind = dir_ / "blind.ply";
+  ChildProcess station({SCULPT_BINARY, "run", scene.string(), "--duration", "4", "--quiet"},
+                       (dir_ / "run.txt").string());
+  // The station's first ticks go by before either viewer listens: a gap no frame id shows.
+  std::this_thread::sleep_for(900ms);  // about when the press begins
+  ChildProcess with_log({SCULPT_BINARY, "view", scene.string(), "--up", "z", "--exit-after-idle", "1.5", "--catch-up",
+                         log.string(), "--dump-model", caught.string()},
+                        (dir_ / "caught.txt").string());
+  ChildProcess without(
+      {SCULPT_BINARY, "view", scene.string(), "--up", "z", "--exit-after-idle", "1.5", "--dump-model", blind.string()},
+      (dir_ / "blind.txt").string());
+  ASSERT_EQ(station.wait(), 0) << read_text(dir_ / "run.txt");
+  ASSERT_EQ(with_log.wait(60s), 0) << read_text(dir_ / "caught.txt");
+  ASSERT_EQ(without.wait(60s), 0) << read_text(dir_ / "blind.txt");
+  const auto exit_of = [&](const char* name) {
+    const auto lines = lines_starting(read_text(dir_ / name), "view: exit ");
+    return lines.empty() ? std::string() : lines.front();
+  };
+  const std::string caught_exit = exit_of("caught.txt"), blind_exit = exit_of("blind.txt");
+  std::printf("[ view ] late with --catch-up: %s\n[ view ] late without: %s\n", caught_exit.c_str(),
+              blind_exit.c_str());
+  EXPECT_EQ(caught_exit.find("DIVERGED"), std::string::npos) << read_text(dir_ / "caught.txt");
+  EXPECT_EQ(caught_exit.find(" gaps 0"), std::string::npos) << "the late start must count as a gap";
+  EXPECT_TRUE(
+      same_points(deform::read_model(caught.string()), deform::read_model((dir_ / "sphere-press.ply").string())));
+  EXPECT_NE(blind_exit.find("DIVERGED by "), std::string::npos) << read_text(dir_ / "blind.txt");
 }
 
 }  // namespace

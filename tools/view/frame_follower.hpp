@@ -8,7 +8,9 @@
 // and its collision count, so a jump is clean when every tick between the two frames arrived
 // and reported no collision, and the earlier frame's tick reported no more events than arrived.
 // Anything else is a gap: filled from the durable log when there is one (catch-up), otherwise
-// counted as diverged, because a wrong model must never be shown as if it were right.
+// counted as diverged, because a wrong model must never be shown as if it were right. The same
+// accounting runs with no frame waiting: a tick that counted collisions no frame brought, or
+// (at the end) ticks that never arrived, such as a late-started viewer's first ones.
 
 #include <cstddef>
 #include <cstdint>
@@ -69,7 +71,16 @@ class FrameFollower {
     std::int64_t first_seen_ns = 0;
   };
 
+  struct TickEntry {
+    int collisions = 0;
+    std::int64_t arrival_ns = 0;
+  };
+
   void decide(std::int64_t now_ns, bool final);
+  // Nothing waits: collisions the ticks counted and no frame brought are a loss too.
+  void check_tail(bool final);
+  void forget_ticks_to(std::int64_t tick);
+  void apply_log(const std::vector<logging::CollisionRecord>& events, std::int64_t last);
   bool ticks_explain(std::int64_t tick) const;
   // Frames [next_, last] are not here: from the log, or diverged. False to wait for the log.
   bool fill_gap(std::int64_t last, std::int64_t waited_ns, bool final);
@@ -78,11 +89,12 @@ class FrameFollower {
   ApplyFrame apply_;
   CatchUpSource catch_up_;
   std::int64_t patience_ns_;
-  std::map<std::int64_t, Frame> pending_;  // by frame id
-  std::map<std::int64_t, int> ticks_;      // tick -> collisions, from the last applied frame's tick on
-  std::int64_t next_ = 0;                  // the next frame id to apply
-  std::int64_t last_tick_ = -1;            // tick of the last applied frame (-1: none yet)
-  std::size_t events_at_last_tick_ = 0;    // events applied with that tick
+  std::map<std::int64_t, Frame> pending_;    // by frame id
+  std::map<std::int64_t, TickEntry> ticks_;  // from the last applied frame's tick on
+  std::int64_t max_tick_ = -1;
+  std::int64_t next_ = 0;                // the next frame id to apply
+  std::int64_t last_tick_ = -1;          // tick of the last applied frame (-1: none yet)
+  std::size_t events_at_last_tick_ = 0;  // events applied with that tick
   std::size_t applied_ = 0;
   std::size_t caught_up_ = 0;
   std::size_t gaps_ = 0;
