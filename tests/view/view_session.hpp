@@ -175,7 +175,8 @@ class ViewSession : public SessionFolder {
   /// window manager the keyboard goes wherever the input focus was set.
   static bool send_keys(const std::string& keys) {
     const std::string command =
-        "timeout 20 xdotool search --sync --name 'sculpt view' windowfocus key " + keys + " > /dev/null 2>&1";
+        "timeout 20 xdotool search --sync --onlyvisible --name 'sculpt view' windowfocus --sync key " + keys +
+        " > /dev/null 2>&1";
     return std::system(command.c_str()) == 0;
   }
 

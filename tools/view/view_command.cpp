@@ -230,15 +230,22 @@ class ViewCommand final : public Command {
     }
     view::Playback playback(std::move(times), paused_);
     std::size_t applied = 0, tips = 0, ticks = 0;
+    // The first status line says the window is up: whoever reads it may send keys at once.
+    draw(playback.status());
+    window_->poll();
     status_line(playback.status());
     auto last = Clock::now();
     std::optional<Clock::time_point> ended_at;
     for (;;) {
-      bool changed = false;
       for (const view::Key key : window_->poll()) {
         if (key == view::Key::kQuit) quit_ = true;
-        changed = playback.key(key) || changed;
+        // Said before the clock moves on, so the line shows what the key did and nothing else.
+        if (playback.key(key)) {
+          status_line(playback.status());
+          dirty_ = true;
+        }
       }
+      bool changed = false;
       const auto now = Clock::now();
       playback.advance(std::chrono::duration<double>(now - last).count());
       last = now;
