@@ -6,10 +6,12 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -104,6 +106,12 @@ class ViewCommand final : public Command {
     setenv("LP_NUM_THREADS", "1", 1);
     errno = 0;
     if (nice(kViewerNice) == -1 && errno != 0) std::perror("view: nice");
+    // A recording that cannot be read should cost nothing: said before any window opens. (The
+    // catch-up log may not exist yet: the station creates it when it starts.)
+    if (!log_path_.empty() && access(log_path_.c_str(), R_OK) != 0) {
+      std::cerr << "sculpt view: error: " << log_path_ << ": cannot read: " << std::strerror(errno) << "\n";
+      return kExitFailure;
+    }
     try {
       const rt::Scene scene = rt::load_scene(scene_path_);
       if (url_.empty()) url_ = scene.lcm.url;
