@@ -23,6 +23,9 @@ int main(int argc, char** argv) {
   commands.push_back(add_replay_command(app));
   commands.push_back(add_check_command(app));
   commands.push_back(add_render_command(app));
+#if SCULPT_HAS_VIEW
+  commands.push_back(add_view_command(app));
+#endif
   // A first word that is no subcommand is a typo far more often than anything else; CLI11
   // would only say that a subcommand is required.
   if (argc > 1 && argv[1][0] != '-') {

@@ -1,0 +1,358 @@
+// sculpt view: a window that follows the station. It loads the scene's base model as sculpt run
+// does and re-applies every collision frame it receives on SCULPT_COLLISION to its own copy (the
+// log is the edit history), or plays a recorded session (--log). Pictures are rendered by OSMesa
+// and copied into an X window (see image_window.hpp for why), at most --fps a second, from a
+// niced process with one llvmpipe thread, so that the station keeps its cores.
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "commands.hpp"
+#include "frame_follower.hpp"
+#include "image_window.hpp"
+#include "lcm_receiver.hpp"
+#include "number_check.hpp"
+#include "playback.hpp"
+#include "sculpt/deform/model_io.hpp"
+#include "sculpt/render/camera.hpp"
+#include "sculpt/render/png_file.hpp"
+#include "sculpt/render/render_model.hpp"
+#include "sculpt/render/text.hpp"
+#include "sculpt/render/view_renderer.hpp"
+#include "sculpt/rt/scene.hpp"
+#include "sculpt/rt/station_setup.hpp"
+#include "sculpt/rt/transfer.hpp"
+#include "session_log.hpp"
+#include "view_state.hpp"
+
+namespace sculpt::tools {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The station's fingertips start above the model: the camera frames this much more than the
+// model's bounding sphere so that an approaching finger is in the picture.
+constexpr double kFramingScale = 1.4;
+constexpr int kViewerNice = 10;
+constexpr render::Rgb kInk{0.12, 0.12, 0.15};
+constexpr render::Rgb kAlarm{0.85, 0.05, 0.05};
+
+std::int64_t now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+void status_line(const std::string& text) {
+  std::printf("view: %s\n", text.c_str());
+  std::fflush(stdout);
+}
+
+class ViewCommand final : public Command {
+ public:
+  explicit ViewCommand(CLI::App& app) {
+    sub_ = app.add_subcommand("view", "A window that follows the station over LCM, or plays a recorded session");
+    sub_->add_option("scene", scene_path_, "Scene file (.toml): its base model is what the edits apply to")->required();
+    auto* lcm = sub_->add_option("--lcm", url_, "Follow the station on this LCM URL (default: the scene's lcm.url)");
+    auto* log = sub_->add_option("--log", log_path_, "Play this recorded session (sculpt run's output.log)");
+    lcm->excludes(log);
+    sub_->add_option("--catch-up", catch_up_path_,
+                     "The station's durable log: frames lost on the live channel are read from it")
+        ->excludes(log);
+    sub_->add_flag("--paused", paused_, "With --log: start paused")->needs(log);
+    sub_->add_option("--fps", fps_, "Render at most this many pictures a second")
+        ->check(finite_in(0.0, true, 30.0, false))
+        ->default_val(30.0);
+    sub_->add_option("--size", width_, "Window width in pixels (height is 3/4 of it)")
+        ->check(CLI::Range(160, 2048))
+        ->default_val(640);
+    sub_->add_option("--up", up_, "The model's up axis: x | y | z")
+        ->check(CLI::IsMember({"x", "y", "z"}))
+        ->default_val("y");
+    sub_->add_option("--azimuth", azimuth_, "Degrees about the up axis, 0 = front")
+        ->check(finite_in(-360.0, false, 360.0, false, "degrees"))
+        ->default_val(30.0);
+    sub_->add_option("--elevation", elevation_, "Degrees above the horizon")
+        ->check(finite_in(-90.0, false, 90.0, false, "degrees"))
+        ->default_val(20.0);
+    sub_->add_option("--arrow-scale", arrow_scale_, "Draw each force arrow this many times its length")
+        ->check(finite_in(0.0, true, 1e6, false))
+        ->default_val(1.0);
+    sub_->add_option("--exit-after-idle", idle_s_,
+                     "Quit when nothing arrived for this many seconds after the first message (with --log: after "
+                     "the last frame played)")
+        ->check(finite_in(0.0, true, 3600.0, false));
+    sub_->add_option("--screenshot", screenshot_path_, "On exit, write what the window shows (.png)");
+    sub_->add_option("--dump-model", dump_path_, "On exit, write the viewer's copy of the model");
+  }
+
+  bool chosen() const override { return sub_->parsed(); }
+
+  int run() override {
+    // llvmpipe starts one rasteriser thread per core unless told otherwise, before its first
+    // context; the station needs those cores more than the viewer does.
+    setenv("LP_NUM_THREADS", "1", 1);
+    errno = 0;
+    if (nice(kViewerNice) == -1 && errno != 0) std::perror("view: nice");
+    // A recording that cannot be read should cost nothing: said before any window opens. (The
+    // catch-up log may not exist yet: the station creates it when it starts.)
+    if (!log_path_.empty() && access(log_path_.c_str(), R_OK) != 0) {
+      std::cerr << "sculpt view: error: " << log_path_ << ": cannot read: " << std::strerror(errno) << "\n";
+      return kExitFailure;
+    }
+    try {
+      const rt::Scene scene = rt::load_scene(scene_path_);
+      if (url_.empty()) url_ = scene.lcm.url;
+      setup_.emplace(rt::prepare_station(scene));
+      model_ = setup_->model;
+      rt::TransferOptions options;
+      options.field = setup_->settings.deform.field;  // as the station's deformer: the copy is bit for bit
+      transfer_.emplace(model_, options);
+      std::printf("model    %s: %zu points\n", scene.model.path.c_str(), model_.size());
+    } catch (const rt::SceneError& e) {
+      std::cerr << "sculpt view: error: " << e.what() << "\n";
+      return kExitUsage;
+    } catch (const std::exception& e) {
+      std::cerr << "sculpt view: error: " << e.what() << "\n";
+      return kExitFailure;
+    }
+    try {
+      open_window();
+      const int code = log_path_.empty() ? follow() : play();
+      finish();
+      return code;
+    } catch (const std::exception& e) {
+      std::cerr << "sculpt view: error: " << e.what() << "\n";
+      return kExitFailure;
+    }
+  }
+
+ private:
+  void open_window() {
+    height_ = width_ * 3 / 4;
+    window_ = std::make_unique<view::ImageWindow>(width_, height_, "sculpt view " + scene_path_);
+    renderer_ = std::make_unique<render::ViewRenderer>(width_, height_, 1);
+    const render::UpAxis up = up_ == "x" ? render::UpAxis::kX : up_ == "z" ? render::UpAxis::kZ : render::UpAxis::kY;
+    const render::Bounds box = render::bounds_of(model_);
+    const double radius = kFramingScale * render::farthest_distance(model_, box.centre());
+    // One camera for the whole session: a view that refitted itself as the model changes would
+    // hide the change it is there to show.
+    camera_ =
+        render::fit_camera(box.centre(), radius, render::look_direction(up, azimuth_, elevation_), up, width_, height_);
+    const render::Camera& c = camera_;
+    std::printf("view: camera eye %.9g %.9g %.9g target %.9g %.9g %.9g up %.9g %.9g %.9g fov %.9g size %dx%d\n",
+                c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z,
+                c.vertical_fov_deg, c.width, c.height);
+    std::fflush(stdout);
+  }
+
+  void apply_frame(std::span<const logging::CollisionRecord> frame) {
+    try {
+      transfer_->apply(frame);
+    } catch (const std::invalid_argument& e) {
+      // A frame the station applied and the copy cannot: the copy is no longer the station's.
+      ++rejected_;
+      status_line(std::string("frame rejected: ") + e.what());
+    }
+    state_.frame({frame.begin(), frame.end()});
+    model_changed_ = true;
+    dirty_ = true;
+  }
+
+  // Follows the live channels until a quit key, the window closing, or --exit-after-idle.
+  int follow() {
+    view::LcmReceiver receiver(url_);
+    view::FrameFollower::CatchUpSource catch_up;
+    if (!catch_up_path_.empty()) {
+      catch_up = [path = catch_up_path_](std::int64_t first, std::int64_t last) {
+        return view::catch_up_from(path, first, last);
+      };
+    }
+    view::FrameFollower follower([this](std::span<const logging::CollisionRecord> f) { apply_frame(f); },
+                                 std::move(catch_up));
+    follower_ = &follower;
+    status_line("following " + url_ + (catch_up_path_.empty() ? "" : ", catching up from " + catch_up_path_));
+    std::optional<Clock::time_point> last_message;
+    std::int64_t reported_diverged = 0;
+    std::size_t reported_caught_up = 0;
+    for (;;) {
+      const std::vector<view::LiveMessage> messages = receiver.take();
+      for (const view::LiveMessage& m : messages) {
+        if (const auto* c = std::get_if<logging::CollisionRecord>(&m)) {
+          follower.collision(*c, now_ns());
+        } else if (const auto* tip = std::get_if<view::FingertipSeen>(&m)) {
+          state_.fingertip(*tip);
+          dirty_ = true;
+        } else if (const auto* tick = std::get_if<view::TickSeen>(&m)) {
+          follower.tick(tick->tick, tick->collisions, now_ns());
+          state_.tick(*tick);
+          dirty_ = true;
+        }
+      }
+      follower.settle(now_ns());
+      if (!messages.empty()) last_message = Clock::now();
+      const bool idle = idle_s_ > 0.0 && last_message &&
+                        std::chrono::duration<double>(Clock::now() - *last_message).count() > idle_s_;
+      if (idle) follower.finish();
+      if (follower.diverged_frames() != reported_diverged || follower.frames_caught_up() != reported_caught_up) {
+        reported_diverged = follower.diverged_frames();
+        reported_caught_up = follower.frames_caught_up();
+        status_line(follower_text());
+        dirty_ = true;
+      }
+      if (quit_requested() || idle) break;
+      draw_if_due(follower_text());
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    status_line("exit " + follower_text());
+    last_text_ = follower_text();
+    follower_ = nullptr;
+    return kExitOk;
+  }
+
+  // Plays --log with the keys until a quit key, the window closing, or --exit-after-idle after
+  // the last frame.
+  int play() {
+    const view::SessionLog log = view::read_session_log(log_path_);
+    std::vector<std::pair<std::size_t, std::size_t>> frames;  // [begin, end) of each frame's events
+    std::vector<double> times;
+    for (std::size_t i = 0; i < log.collisions.size(); ++i) {
+      if (i == 0 || log.collisions[i].frame_id != log.collisions[i - 1].frame_id) {
+        frames.emplace_back(i, i + 1);
+        times.push_back(log.collisions[i].time_s);
+      } else {
+        frames.back().second = i + 1;
+      }
+    }
+    view::Playback playback(std::move(times), paused_);
+    std::size_t applied = 0, tips = 0, ticks = 0;
+    // The first status line says the window is up: whoever reads it may send keys at once.
+    draw(playback.status());
+    window_->poll();
+    status_line(playback.status());
+    auto last = Clock::now();
+    std::optional<Clock::time_point> ended_at;
+    for (;;) {
+      for (const view::Key key : window_->poll()) {
+        if (key == view::Key::kQuit) quit_ = true;
+        // Said before the clock moves on, so the line shows what the key did and nothing else.
+        if (playback.key(key)) {
+          status_line(playback.status());
+          dirty_ = true;
+        }
+      }
+      bool changed = false;
+      const auto now = Clock::now();
+      playback.advance(std::chrono::duration<double>(now - last).count());
+      last = now;
+      while (applied < playback.due()) {
+        const auto [begin, end] = frames[applied++];
+        apply_frame(std::span(log.collisions).subspan(begin, end - begin));
+      }
+      // Fingertips and ticks up to the tick of the last frame applied (all of them at the end).
+      const std::int64_t tick = playback.ended() ? INT64_MAX
+                                : applied == 0   ? -1
+                                                 : log.collisions[frames[applied - 1].first].tick;
+      for (; tips < log.fingertips.size() && log.fingertips[tips].tick <= tick; ++tips)
+        state_.fingertip(log.fingertips[tips]);
+      for (; ticks < log.ticks.size() && log.ticks[ticks].tick <= tick; ++ticks) state_.tick(log.ticks[ticks]);
+      if (playback.ended() && !ended_at) {
+        ended_at = now;
+        changed = true;
+      }
+      if (changed) {
+        status_line(playback.status());
+        dirty_ = true;
+      }
+      if (quit_ || window_->closed()) break;
+      if (idle_s_ > 0.0 && ended_at && std::chrono::duration<double>(now - *ended_at).count() > idle_s_) break;
+      draw_if_due(playback.status());
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    last_text_ = playback.status();
+    return kExitOk;
+  }
+
+  std::string follower_text() const {
+    const view::FrameFollower& f = *follower_;
+    std::string text = "frame " + std::to_string(f.frame_id()) + " applied " + std::to_string(f.frames_applied()) +
+                       " caught up " + std::to_string(f.frames_caught_up()) + " gaps " + std::to_string(f.gaps());
+    if (f.diverged() || rejected_ > 0) {
+      text += " DIVERGED by " + std::to_string(f.diverged_frames() + static_cast<std::int64_t>(rejected_)) + " frames";
+    }
+    return text;
+  }
+
+  bool quit_requested() {
+    for (const view::Key key : window_->poll()) {
+      if (key == view::Key::kQuit) quit_ = true;
+    }
+    return quit_ || window_->closed();
+  }
+
+  void draw_if_due(const std::string& text) {
+    const auto now = Clock::now();
+    if (!dirty_ || (last_draw_ && std::chrono::duration<double>(now - *last_draw_).count() < 1.0 / fps_)) return;
+    draw(text);
+    last_draw_ = now;
+  }
+
+  void draw(const std::string& text) {
+    if (model_changed_ || !render_model_) {
+      render_model_ = std::make_unique<render::RenderModel>(model_);
+      model_changed_ = false;
+    }
+    render::Image image = renderer_->render(*render_model_, camera_, {}, state_.overlay(arrow_scale_));
+    const bool alarm = text.find("DIVERGED") != std::string::npos;
+    render::draw_text(image, 8, 8, text, alarm ? kAlarm : kInk, 2);
+    render::draw_text(image, 8, 8 + render::text_height(text, 2) + 6, state_.tick_text(), kInk, 1);
+    window_->show(image);
+    dirty_ = false;
+  }
+
+  void finish() {
+    draw(last_text_);
+    // The X server draws asynchronously: let it take the last picture before it is read back.
+    window_->poll();
+    if (!screenshot_path_.empty()) render::write_png(screenshot_path_, window_->capture());
+    if (!dump_path_.empty()) deform::write_model(dump_path_, model_);
+  }
+
+  CLI::App* sub_ = nullptr;
+  std::string scene_path_, url_, log_path_, catch_up_path_, up_, screenshot_path_, dump_path_;
+  bool paused_ = false;
+  double fps_ = 30.0, azimuth_ = 30.0, elevation_ = 20.0, arrow_scale_ = 1.0, idle_s_ = 0.0;
+  int width_ = 640, height_ = 480;
+
+  std::optional<rt::StationSetup> setup_;
+  deform::PointModel model_;
+  std::optional<rt::FrameTransfer> transfer_;
+  view::ViewState state_;
+  view::FrameFollower* follower_ = nullptr;
+  std::size_t rejected_ = 0;
+  std::unique_ptr<view::ImageWindow> window_;
+  std::unique_ptr<render::ViewRenderer> renderer_;
+  std::unique_ptr<render::RenderModel> render_model_;
+  render::Camera camera_;
+  bool model_changed_ = true, dirty_ = true, quit_ = false;
+  std::optional<Clock::time_point> last_draw_;
+  std::string last_text_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_view_command(CLI::App& app) { return std::make_unique<ViewCommand>(app); }
+
+}  // namespace sculpt::tools
