@@ -26,7 +26,7 @@ cmake --build build-sanitize -j"$jobs"
 (cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j"$jobs")
 
 # ThreadSanitizer over the whole suite (the station, HIL and log tests are what it is for):
-# reports fail the test. The suppressions cover only LCM's and GLib's uninstrumented hand-offs,
+# reports fail the test. The suppressions cover only uninstrumented third-party libraries (LCM, GLib, Mesa),
 # each entry commented with why.
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSCULPT_SANITIZE_THREAD=ON \
   -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="-O1 -Werror" >/dev/null

@@ -238,6 +238,7 @@ struct JournalWriter {
     const std::size_t at = j.count_;
     if (at + n > j.index_.size()) return;  // cannot happen with the reservation the contract asks for
     j.contiguous_ = kContiguous;
+    j.recorded_normals_ = j.normals_ && nx != nullptr;  // a pass that carries none leaves them be
     if constexpr (!kContiguous) {
       for (std::size_t k = 0; k < n; ++k) j.index_[at + k] = static_cast<std::uint32_t>(index_of(begin + k));
     }
@@ -266,7 +267,7 @@ void UndoJournal::reserve(std::size_t points, bool normals) {
 }
 
 void UndoJournal::restore(PointModel& model) const noexcept {
-  const bool normals = normals_ && model.has_normals();
+  const bool normals = recorded_normals_ && model.has_normals();
   for (std::size_t k = 0; k < count_; ++k) {
     const std::size_t i = contiguous_ ? k : index_[k];
     model.x[i] = x_[k];

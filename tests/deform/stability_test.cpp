@@ -137,6 +137,23 @@ TEST(Stability, NonFiniteDisplacementIsReportedAndTheJournalRestoresTheBytes) {
   EXPECT_TRUE(same_bytes(m, before));
 }
 
+// A pass that does not carry normals leaves them alone, so its undo must too: after a pass
+// that carried normals (the journal then held them), a pass without them is undone to exactly
+// the model before it, not to the first pass's normals.
+TEST(Stability, UndoingAPassThatCarriedNoNormalsLeavesTheNormalsAsTheyAre) {
+  PointModel m = make_sphere(200);
+  UndoJournal journal;
+  journal.reserve(m.size(), m.has_normals());
+  const SourceForce push{{0.0, 0.0, 1.5}, {0.0, 0.0, -0.05}};
+  apply_displacements(m, Kernel{}, {&push, 1}, {}, true, {}, true, &journal);
+  const PointModel after_first = m;
+  FieldOptions positions_only;
+  positions_only.carry_normals = false;
+  apply_displacements(m, Kernel{}, {&push, 1}, {}, true, positions_only, true, &journal);
+  journal.restore(m);
+  EXPECT_TRUE(same_bytes(m, after_first));
+}
+
 // Finding 3: on the force axis det(I + grad u) = (1 - U/h)(1 + U/(4(1 - nu)h))^2 (MATH.md §6);
 // the frame's reported minimum can be no larger than that at A.
 TEST(Stability, JacobianOnTheForceAxisMatchesTheClosedForm) {

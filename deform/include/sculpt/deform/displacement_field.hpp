@@ -54,7 +54,8 @@ class UndoJournal {
   std::vector<float> x_, y_, z_, nx_, ny_, nz_;
   std::size_t count_ = 0;
   bool normals_ = false;
-  bool contiguous_ = false;  // the recorded points are 0 .. count_ - 1: index_ is not written
+  bool contiguous_ = false;        // the recorded points are 0 .. count_ - 1: index_ is not written
+  bool recorded_normals_ = false;  // the last pass carried normals, so they are in nx_ .. nz_
 };
 
 /// What a pass of the displacement loop did.
