@@ -27,6 +27,7 @@
 #include "lcm_receiver.hpp"
 #include "number_check.hpp"
 #include "playback.hpp"
+#include "sculpt/base/clock.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/render/camera.hpp"
 #include "sculpt/render/png_file.hpp"
@@ -50,10 +51,6 @@ constexpr double kFramingScale = 1.4;
 constexpr int kViewerNice = 10;
 constexpr render::Rgb kInk{0.12, 0.12, 0.15};
 constexpr render::Rgb kAlarm{0.85, 0.05, 0.05};
-
-std::int64_t now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-}
 
 void status_line(const std::string& text) {
   std::printf("view: %s\n", text.c_str());
@@ -191,17 +188,17 @@ class ViewCommand final : public Command {
       const std::vector<view::LiveMessage> messages = receiver.take();
       for (const view::LiveMessage& m : messages) {
         if (const auto* c = std::get_if<logging::CollisionRecord>(&m)) {
-          follower.collision(*c, now_ns());
+          follower.collision(*c, base::monotonic_now_ns());
         } else if (const auto* tip = std::get_if<view::FingertipSeen>(&m)) {
           state_.fingertip(*tip);
           dirty_ = true;
         } else if (const auto* tick = std::get_if<view::TickSeen>(&m)) {
-          follower.tick(tick->tick, tick->collisions, now_ns());
+          follower.tick(tick->tick, tick->collisions, base::monotonic_now_ns());
           state_.tick(*tick);
           dirty_ = true;
         }
       }
-      follower.settle(now_ns());
+      follower.settle(base::monotonic_now_ns());
       if (!messages.empty()) last_message = Clock::now();
       const bool idle = idle_s_ > 0.0 && last_message &&
                         std::chrono::duration<double>(Clock::now() - *last_message).count() > idle_s_;
