@@ -328,11 +328,16 @@ TEST(SerialHapticSink, ASlowLineCarriesTheNewestCommandAndNeverABacklog) {
                    });
     }
   };
-  // The line drains; one more command after the backlog must be the last to arrive.
-  ASSERT_TRUE(wait_for([&] {
-    read_line();
-    return sink.frames_written() + sink.dropped() + sink.superseded() == accepted;
-  }));
+  // The line drains; one more command after the backlog must be the last to arrive. (Up to
+  // 20 s: a loaded CI machine once took longer than 5 s here.)
+  ASSERT_TRUE(wait_for(
+      [&] {
+        read_line();
+        return sink.frames_written() + sink.dropped() + sink.superseded() == accepted;
+      },
+      std::chrono::seconds(20)))
+      << sink.frames_written() << " written + " << sink.dropped() << " dropped + " << sink.superseded()
+      << " superseded of " << accepted << " accepted";
   ASSERT_TRUE(sink.send(command(kCommands)));
   ASSERT_TRUE(wait_for([&] {
     read_line();
