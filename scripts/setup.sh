@@ -23,6 +23,8 @@ PACKAGES=(
   libosmesa6-dev libglfw3-dev libgl-dev xvfb xdotool
   clang-format clang-tidy
   openjdk-17-jdk-headless liblcm-java libjchart2d-java python3-matplotlib
+  gnuplot-nox
+  qemu-system-x86 busybox-static
   python3
 )
 
