@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <stdexcept>
 
@@ -13,6 +14,7 @@
 #include "guard_report.hpp"
 #include "json_report.hpp"
 #include "output_paths.hpp"
+#include "repeat_timing.hpp"
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
@@ -101,6 +103,11 @@ class DeformCommand final : public Command {
                            ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))
                            ->default_val("binary");
     sub_->add_option("--json", json_path_, "Also write the report as JSON here ('-' for stdout)");
+    sub_->add_option("--repeat", repeat_,
+                     "Run the frame this many times from the same starting model; time_ms gets frame_median "
+                     "and frame_p99 beside the first, cold frame, and every run must give the same bytes")
+        ->check(CLI::Range(1, kMaxRepeat))
+        ->default_val(1);
     bad_normals_.add_to(*sub_);
   }
 
@@ -213,9 +220,28 @@ class DeformCommand final : public Command {
     deform::Deformer deformer(model, settings);
     const double setup_ms = ms_since(setup_start);
 
+    // The starting model and the first result are kept only when the frame is repeated: each
+    // repeat restores the start (the deformer's own undo, so the index needs no rebuild) and must
+    // reproduce the first result bit for bit.
+    const deform::PointModel start = repeat_ > 1 ? model : deform::PointModel{};
+    std::vector<double> times_ms;
+    times_ms.reserve(static_cast<std::size_t>(repeat_));
     const auto frame_start = Clock::now();
-    const deform::FrameReport& report = deformer.deform(probes);
-    const double frame_ms = ms_since(frame_start);
+    const deform::FrameReport* report = &deformer.deform(probes);
+    times_ms.push_back(ms_since(frame_start));
+    const deform::PointModel first = repeat_ > 1 ? model : deform::PointModel{};
+    for (int run = 1; run < repeat_; ++run) {
+      deformer.restore(start);
+      const auto repeat_start = Clock::now();
+      report = &deformer.deform(probes);
+      times_ms.push_back(ms_since(repeat_start));
+      if (!same_result(model, first)) {
+        throw std::runtime_error("run " + std::to_string(run + 1) + " of --repeat " + std::to_string(repeat_) +
+                                 " moved the points differently from the first: the frame is not deterministic");
+      }
+    }
+    const RepeatTimes times = summarise_repeats(times_ms);
+    const double frame_ms = times.cold_ms;
 
     double write_ms = 0.0;
     if (!out_path_.empty()) {
@@ -227,11 +253,20 @@ class DeformCommand final : public Command {
       write_ms = ms_since(write_start);
     }
 
-    nlohmann::json json = make_json(model, settings, normals_source, spacing, report, deformer.frames().size());
+    nlohmann::json json = make_json(model, settings, normals_source, spacing, *report, deformer.frames().size());
     json["time_ms"] = {{"load", load_ms}, {"setup", setup_ms}, {"frame", frame_ms}, {"write", write_ms}};
+    if (repeat_ > 1) {
+      json["time_ms"]["frame_median"] = times.median_ms;
+      json["time_ms"]["frame_p99"] = times.p99_ms;
+      json["repeat"] = repeat_;
+    }
     json["normals_checked"] = bad_normals_.to_json(normal_report);
     json["faces"] = model.triangles.size() / 3;
-    print_summary(model, settings, normals_source, spacing, report, frame_ms);
+    print_summary(model, settings, normals_source, spacing, *report, frame_ms);
+    if (repeat_ > 1) {
+      std::printf("repeat   %d runs, the same result each time: frame median %.4g ms, p99 %.4g ms (first %.4g ms)\n",
+                  repeat_, times.median_ms, times.p99_ms, frame_ms);
+    }
     stamp_summary(json);
     if (!json_path_.empty()) write_json(json_path_, json);
     return kExitOk;
@@ -398,7 +433,18 @@ class DeformCommand final : public Command {
     if (!out_path_.empty()) std::printf("wrote    %s\n", out_path_.c_str());
   }
 
+  // Byte for byte (a -0 against a 0, or two NaNs, would compare wrongly as floats).
+  static bool same_result(const deform::PointModel& a, const deform::PointModel& b) {
+    auto same = [](const std::vector<float>& u, const std::vector<float>& v) {
+      return u.size() == v.size() && (u.empty() || std::memcmp(u.data(), v.data(), u.size() * sizeof(float)) == 0);
+    };
+    return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z) && same(a.nx, b.nx) && same(a.ny, b.ny) &&
+           same(a.nz, b.nz);
+  }
+
+  static constexpr int kMaxRepeat = 1000000;
   CLI::App* sub_ = nullptr;
+  int repeat_ = 1;
   std::string model_path_, out_path_, json_path_, kernel_, form_, mode_, reference_text_, encoding_;
   std::vector<std::string> contacts_;
   deform::Material material_;

@@ -56,6 +56,13 @@ expect_json "re-read file has the model's points" "j['points'] == 3203 and j['no
 if grep -q "collision(s)" "$work/out"; then ok "summary printed"; else bad "no summary on stdout"; fi
 
 # Two contacts, one frame: solved jointly.
+# --repeat: the same frame N times from the same start; the result is the one-run result, byte
+# for byte, and the JSON has the median and p99 beside the cold first frame.
+expect_exit 0 "repeated push" -- "$SCULPT" deform --model "$sphere" --out "$work/repeated.ply" \
+  --contact 0,0,1.1:0,0,0.95 --repeat 25 --json "$work/report.json"
+expect_json "repeat times" "j['repeat'] == 25 and 0 < j['time_ms']['frame_median'] <= j['time_ms']['frame_p99'] and j['time_ms']['frame'] > 0"
+if cmp -s "$work/repeated.ply" "$work/pushed.ply"; then ok "repeated push writes the one-run model"; else bad "--repeat 25 wrote another model than one run"; fi
+expect_exit 2 "--repeat 0 refused" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --repeat 0
 expect_exit 0 "two fingers" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 \
   --contact 1.1,0,0:0.95,0,0 --json "$work/report.json"
 expect_json "two collisions, six unknowns" "j['collisions'] == 2 and j['solve']['unknowns'] == 6"
