@@ -36,12 +36,6 @@ namespace {
 constexpr int kMinEdge = 16;
 constexpr int kMaxEdge = 4096;
 
-// One colour per finger (thumb .. little), strong enough to read on the clay and on the heat map.
-constexpr std::array<render::Rgb, 5> kFingerColors{
-    {{0.90, 0.20, 0.55}, {0.15, 0.45, 0.95}, {0.10, 0.70, 0.35}, {0.60, 0.30, 0.85}, {0.95, 0.55, 0.05}}};
-
-render::Rgb finger_color(int finger) { return kFingerColors[static_cast<std::size_t>(finger) % kFingerColors.size()]; }
-
 // "WxH" with both in [kMinEdge, kMaxEdge].
 bool parse_size(const std::string& text, int& width, int& height, std::string& error) {
   const std::size_t x = text.find_first_of("xX");
@@ -83,6 +77,12 @@ void check_output_path(const std::string& path) {
 }
 
 #if SCULPT_HAS_LCM
+// One colour per finger (thumb .. little), strong enough to read on the clay and on the heat map.
+constexpr std::array<render::Rgb, 5> kFingerColors{
+    {{0.90, 0.20, 0.55}, {0.15, 0.45, 0.95}, {0.10, 0.70, 0.35}, {0.60, 0.30, 0.85}, {0.95, 0.55, 0.05}}};
+
+render::Rgb finger_color(int finger) { return kFingerColors[static_cast<std::size_t>(finger) % kFingerColors.size()]; }
+
 struct SessionOverlay {
   render::Overlay overlay;
   std::size_t collisions = 0;
