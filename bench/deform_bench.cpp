@@ -1,6 +1,8 @@
 // One collision frame, end to end (collision detection, boundary conditions, solve, update),
-// on the thesis's sphere and on real scans, in float and double. Figures go to the README.
+// on the thesis's sphere and on real scans, in float and double, each printed at the end as a
+// ratio to the yardsticks measured in the same run. Figures go to the README.
 #include <benchmark/benchmark.h>
+#include <malloc.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -15,10 +17,20 @@
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
+#include "ratio_report.hpp"
+#include "yardstick.hpp"
 
 namespace {
 
 using namespace sculpt::deform;
+namespace bench = sculpt::bench;
+
+// Bytes the heap holds now (small blocks and mmapped ones): the difference across a set-up is
+// what that set-up keeps.
+double heap_bytes() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd);
+}
 
 // Models are loaded once and shared by every benchmark that names them.
 const PointModel* load(const std::string& name) {
@@ -57,6 +69,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
     return;
   }
   const std::size_t fingers = static_cast<std::size_t>(state.range(0));
+  const double heap_before = heap_bytes();
   PointModel model = *source;
   DeformSettings settings;
   const double spacing = typical_spacing(model, PointIndex(model)).value;
@@ -69,6 +82,8 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
     settings.region.radius = region_spacings * spacing;
   }
   Deformer deformer(model, settings);
+  // The model's arrays and everything the deformer reserved (index, journal, buffers).
+  const double bytes_per_point = (heap_bytes() - heap_before) / static_cast<double>(model.size());
   const std::vector<ProbeMotion> probes = spread_probes(*source, fingers, spacing);
   std::size_t moved = 0, collisions = 0;
   for (auto _ : state) {
@@ -93,6 +108,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   for (std::size_t i = 0; i < model.size(); ++i) worst = std::max(worst, norm(model.position(i) - exact.position(i)));
   state.counters["err_vs_exact"] = scale > 0.0 ? worst / scale : 0.0;
   state.counters["points"] = static_cast<double>(model.size());
+  state.counters["bytes/point"] = bytes_per_point;
   state.counters["moved"] = static_cast<double>(moved);
   state.counters["frames/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
@@ -112,9 +128,31 @@ void bare_loop(benchmark::State& state, Precision precision) {
       benchmark::Counter(1e5 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
+// The yardsticks on as many points as each model has (bench/yardstick.hpp).
+void yardsticks(std::size_t points) {
+  benchmark::RegisterBenchmark(bench::bare_name(points).c_str(), [points](benchmark::State& state) {
+    bench::FloatPoints p = bench::sphere_points(points);
+    const bench::FiveForces forces = bench::five_forces();
+    for (auto _ : state) {
+      bench::bare_kelvin_pass(p, forces);
+      benchmark::DoNotOptimize(p.x.data());
+      benchmark::ClobberMemory();
+    }
+  })->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark(bench::stream_name(points).c_str(), [points](benchmark::State& state) {
+    bench::FloatPoints p = bench::sphere_points(points);
+    for (auto _ : state) {
+      bench::stream_pass(p);
+      benchmark::DoNotOptimize(p.x.data());
+      benchmark::ClobberMemory();
+    }
+  })->Unit(benchmark::kMicrosecond);
+}
+
 void register_all() {
   using benchmark::RegisterBenchmark;
   const auto ms = benchmark::kMillisecond;
+  for (std::size_t points : {3203u, 54559u, 100250u, 437645u}) yardsticks(points);
   for (auto [precision, tag] : {std::pair{Precision::kFloat, "float"}, std::pair{Precision::kDouble, "double"}}) {
     const Precision p = precision;
     RegisterBenchmark((std::string("BareLoop5x100k/") + tag).c_str(), [p](benchmark::State& s) {
@@ -147,7 +185,8 @@ void register_all() {
 int main(int argc, char** argv) {
   register_all();
   benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
+  sculpt::bench::RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
   return 0;
 }

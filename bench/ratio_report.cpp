@@ -1,0 +1,68 @@
+#include "ratio_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace sculpt::bench {
+
+std::string bare_name(std::size_t points) { return "Bare5/" + std::to_string(points); }
+std::string stream_name(std::size_t points) { return "Stream/" + std::to_string(points); }
+
+namespace {
+
+double to_ms(double t, benchmark::TimeUnit unit) {
+  switch (unit) {
+    case benchmark::kNanosecond: return t * 1e-6;
+    case benchmark::kMicrosecond: return t * 1e-3;
+    case benchmark::kMillisecond: return t;
+    case benchmark::kSecond: return t * 1e3;
+  }
+  return t;
+}
+
+double counter(const benchmark::BenchmarkReporter::Run& run, const char* name) {
+  const auto it = run.counters.find(name);
+  return it == run.counters.end() ? 0.0 : it->second.value;
+}
+
+}  // namespace
+
+void RatioReporter::ReportRuns(const std::vector<Run>& runs) {
+  ConsoleReporter::ReportRuns(runs);
+  for (const Run& run : runs) {
+    if (run.error_occurred) continue;
+    // With --benchmark_repetitions the median aggregate speaks for the name; without, the run.
+    const bool median = run.run_type == Run::RT_Aggregate && run.aggregate_name == "median";
+    if (run.run_type == Run::RT_Aggregate && !median) continue;
+    const std::string name = run.run_name.str();
+    auto [it, fresh] = results_.try_emplace(name);
+    if (fresh) order_.push_back(name);
+    if (it->second.from_median && !median) continue;
+    it->second = {to_ms(run.GetAdjustedCPUTime(), run.time_unit), counter(run, "points"), counter(run, "bytes/point"),
+                  median};
+  }
+}
+
+void RatioReporter::Finalize() {
+  ConsoleReporter::Finalize();
+  std::printf(
+      "\nRatios in this run (CPU time; T = the bare five-source Kelvin pass on as many points,\n"
+      "S = one streaming pass over the positions):\n");
+  std::printf("%-52s %10s %9s %9s %12s\n", "frame", "ms", "x T", "x S", "bytes/point");
+  for (const std::string& name : order_) {
+    const Result& r = results_.at(name);
+    if (!(r.points > 0.0)) continue;  // a yardstick itself
+    const auto n = static_cast<std::size_t>(std::llround(r.points));
+    const auto bare = results_.find(bare_name(n)), stream = results_.find(stream_name(n));
+    auto ratio = [&](const auto& it) { return it == results_.end() ? NAN : r.cpu_ms / it->second.cpu_ms; };
+    std::printf("%-52s %10.4f %9.2f %9.2f %12.0f\n", name.c_str(), r.cpu_ms, ratio(bare), ratio(stream),
+                r.bytes_per_point);
+  }
+  for (const std::string& name : order_) {
+    const Result& r = results_.at(name);
+    if (r.points > 0.0) continue;
+    std::printf("%-52s %10.4f\n", name.c_str(), r.cpu_ms);
+  }
+}
+
+}  // namespace sculpt::bench
