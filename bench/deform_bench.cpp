@@ -62,7 +62,8 @@ std::vector<ProbeMotion> spread_probes(const PointModel& m, std::size_t fingers,
   return probes;
 }
 
-void frame(benchmark::State& state, const std::string& name, Precision precision, double region_spacings) {
+void frame(benchmark::State& state, const std::string& name, Precision precision, double region_spacings,
+           int threads = 1) {
   const PointModel* source = load(name);
   if (!source) {
     state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
@@ -77,6 +78,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   settings.contact.min_source_distance = 0.25 * spacing;
   settings.contact.guard_distance = 1.5 * spacing;
   settings.field.precision = precision;
+  settings.threads = threads;
   if (region_spacings > 0.0) {
     settings.region.kind = RegionSettings::Kind::kRadius;
     settings.region.radius = region_spacings * spacing;
@@ -102,6 +104,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   DeformSettings exact_settings = settings;
   exact_settings.field.precision = Precision::kDouble;
   exact_settings.region = RegionSettings{};
+  exact_settings.threads = 1;
   Deformer exact_deformer(exact, exact_settings);
   const double scale = exact_deformer.deform(probes).max_displacement;
   double worst = 0.0;
@@ -170,6 +173,12 @@ void register_all() {
                         [p, name](benchmark::State& s) { frame(s, name, p, 0.0); })
           ->Arg(1)
           ->Arg(5)
+          ->Unit(ms);
+      // Both cores: the deformer's worker takes half of the displacement pass.
+      RegisterBenchmark(("Scan/" + name + "/global_2threads/" + tag).c_str(),
+                        [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 2); })
+          ->Arg(5)
+          ->UseRealTime()  // the caller's CPU time would leave out the worker's half
           ->Unit(ms);
       RegisterBenchmark(("Scan/" + name + "/region20/" + tag).c_str(),
                         [p, name](benchmark::State& s) { frame(s, name, p, 20.0); })

@@ -38,25 +38,34 @@ void RatioReporter::ReportRuns(const std::vector<Run>& runs) {
     auto [it, fresh] = results_.try_emplace(name);
     if (fresh) order_.push_back(name);
     if (it->second.from_median && !median) continue;
-    it->second = {to_ms(run.GetAdjustedCPUTime(), run.time_unit), counter(run, "points"), counter(run, "bytes/point"),
-                  median};
+    Result& r = it->second;
+    r.cpu_ms = to_ms(run.GetAdjustedCPUTime(), run.time_unit);
+    r.real_ms = to_ms(run.GetAdjustedRealTime(), run.time_unit);
+    r.threaded = name.find("threads") != std::string::npos;
+    r.points = counter(run, "points");
+    r.bytes_per_point = counter(run, "bytes/point");
+    r.from_median = median;
   }
 }
 
 void RatioReporter::Finalize() {
   ConsoleReporter::Finalize();
   std::printf(
-      "\nRatios in this run (CPU time; T = the bare five-source Kelvin pass on as many points,\n"
-      "S = one streaming pass over the positions):\n");
+      "\nRatios in this run (CPU time, wall time for a frame on more than one thread; T = the bare\n"
+      "five-source Kelvin pass on one core on as many points, S = one streaming pass over the\n"
+      "positions):\n");
   std::printf("%-52s %10s %9s %9s %12s\n", "frame", "ms", "x T", "x S", "bytes/point");
   for (const std::string& name : order_) {
     const Result& r = results_.at(name);
     if (!(r.points > 0.0)) continue;  // a yardstick itself
     const auto n = static_cast<std::size_t>(std::llround(r.points));
     const auto bare = results_.find(bare_name(n)), stream = results_.find(stream_name(n));
-    auto ratio = [&](const auto& it) { return it == results_.end() ? NAN : r.cpu_ms / it->second.cpu_ms; };
-    std::printf("%-52s %10.4f %9.2f %9.2f %12.0f\n", name.c_str(), r.cpu_ms, ratio(bare), ratio(stream),
-                r.bytes_per_point);
+    const double ms = r.threaded ? r.real_ms : r.cpu_ms;
+    auto ratio = [&](const auto& it) {
+      if (it == results_.end()) return static_cast<double>(NAN);
+      return ms / (r.threaded ? it->second.real_ms : it->second.cpu_ms);
+    };
+    std::printf("%-52s %10.4f %9.2f %9.2f %12.0f\n", name.c_str(), ms, ratio(bare), ratio(stream), r.bytes_per_point);
   }
   for (const std::string& name : order_) {
     const Result& r = results_.at(name);

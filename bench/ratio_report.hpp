@@ -19,6 +19,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
  private:
   struct Result {
     double cpu_ms = 0.0;
+    double real_ms = 0.0;
+    bool threaded = false;  // timed by the wall clock (its CPU time is one thread's)
     double points = 0.0;
     double bytes_per_point = 0.0;
     bool from_median = false;

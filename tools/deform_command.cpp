@@ -99,6 +99,9 @@ class DeformCommand final : public Command {
     reference_option_ = sub_->add_option("--reference", reference_text_,
                                          "X,Y,Z point known to be outside (for models without normals)");
     sub_->add_flag("--double", use_double_, "Evaluate the per-point loop in double instead of float");
+    sub_->add_option("--threads", threads_, "2: a worker on a second core takes half of a large displacement pass")
+        ->check(CLI::Range(1, 2))
+        ->default_val(1);
     encoding_option_ = sub_->add_option("--encoding", encoding_, "ascii | binary | binary_big_endian for a .ply output")
                            ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))
                            ->default_val("binary");
@@ -209,6 +212,7 @@ class DeformCommand final : public Command {
     contact.reference = reference;
     settings.solver.form = form_ == "force" ? deform::WeightForm::kForce : deform::WeightForm::kScale;
     settings.field.precision = use_double_ ? deform::Precision::kDouble : deform::Precision::kFloat;
+    settings.threads = threads_;
     if (region_option_->count()) {
       settings.region.kind = deform::RegionSettings::Kind::kRadius;
       settings.region.radius = region_radius_;
@@ -445,6 +449,7 @@ class DeformCommand final : public Command {
   static constexpr int kMaxRepeat = 1000000;
   CLI::App* sub_ = nullptr;
   int repeat_ = 1;
+  int threads_ = 1;
   std::string model_path_, out_path_, json_path_, kernel_, form_, mode_, reference_text_, encoding_;
   std::vector<std::string> contacts_;
   deform::Material material_;

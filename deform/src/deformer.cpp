@@ -79,6 +79,10 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   if (settings_.max_probes == 0 || settings_.max_probes > kMaxSources) {
     throw std::invalid_argument("deform: max probes must be 1 to " + std::to_string(kMaxSources));
   }
+  if (settings_.threads != 1 && settings_.threads != 2) {
+    throw std::invalid_argument("deform: threads must be 1 or 2, got " + std::to_string(settings_.threads));
+  }
+  if (settings_.threads == 2) worker_ = std::make_unique<FieldWorker>();
   const std::size_t n = model_.size();
   report_.contacts.resize(settings_.max_probes);
   folded_.contacts.resize(settings_.max_probes);
@@ -405,7 +409,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   // 6. Move the region (or everything) and carry the normals, keeping the old values: a frame
   //    that folds the material or yields a non-finite value is undone bit for bit.
   const FieldResult moved = apply_displacements(model_, settings_.kernel, forces_, region_.points(), region_.global(),
-                                                settings_.field, /*jacobian=*/true, &journal_);
+                                                settings_.field, /*jacobian=*/true, &journal_, worker_.get());
   r.min_jacobian = moved.min_jacobian;
   if (!moved.finite) {
     journal_.restore(model_);

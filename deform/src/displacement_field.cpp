@@ -228,17 +228,23 @@ std::uint32_t non_finite_bits(const T* v, std::size_t n) {
 
 // Records a block of old values into a journal reserved at set-up: no allocation, by
 // construction of the reservation (the caller reserves for every point a frame may move).
+// Slot k of the journal holds the pass's k-th point, so blocks record independently (the two
+// halves of a split pass write disjoint slots).
 struct JournalWriter {
   UndoJournal& j;
   // kContiguous: the pass moves points 0, 1, 2, ... in order, so the journal notes that once
   // instead of writing an index per point (a 400 kB stream per frame at 100,000 points).
+  // `normals`: the pass carries them (one that carries none leaves them be).
+  void begin_pass(bool contiguous, bool normals, std::size_t count) const noexcept {
+    j.contiguous_ = contiguous;
+    j.recorded_normals_ = j.normals_ && normals;
+    j.count_ = count <= j.index_.size() ? count : 0;  // more cannot happen with the reservation asked for
+  }
   template <bool kContiguous, typename IndexOf>
   void record(IndexOf index_of, std::size_t begin, std::size_t n, const float* x, const float* y, const float* z,
               const float* nx, const float* ny, const float* nz) const noexcept {
-    const std::size_t at = j.count_;
-    if (at + n > j.index_.size()) return;  // cannot happen with the reservation the contract asks for
-    j.contiguous_ = kContiguous;
-    j.recorded_normals_ = j.normals_ && nx != nullptr;  // a pass that carries none leaves them be
+    const std::size_t at = begin;
+    if (at + n > j.count_) return;  // begin_pass found no room for the pass
     if constexpr (!kContiguous) {
       for (std::size_t k = 0; k < n; ++k) j.index_[at + k] = static_cast<std::uint32_t>(index_of(begin + k));
     }
@@ -250,7 +256,6 @@ struct JournalWriter {
       std::memcpy(j.ny_.data() + at, ny, n * sizeof(float));
       std::memcpy(j.nz_.data() + at, nz, n * sizeof(float));
     }
-    j.count_ = at + n;
   }
 };
 
@@ -302,6 +307,15 @@ void copy_indexed(IndexOf index_of, std::size_t begin, std::size_t n, std::vecto
   }
 }
 
+// The extremes of part of a pass, reduced across parts exactly (max and min do not depend on
+// the order).
+template <typename T>
+struct PassExtremes {
+  T max_squared = T(0);
+  T min_det = T(1);
+  std::uint32_t bad = 0;
+};
+
 // Each block: record the old positions (and normals) in the journal, add every source's
 // displacement (and gradient) into block arrays, then one pass per point for the Jacobian, the
 // carried normal, the new position and the running extremes, and a bit test for non-finite
@@ -309,9 +323,10 @@ void copy_indexed(IndexOf index_of, std::size_t begin, std::size_t n, std::vecto
 // otherwise on a gathered copy, scattered back at the end. The extremes are kept per block
 // lane and reduced once at the end: a running scalar max/min does not vectorise without
 // fast-math, lane-wise selects do, and max and min are exact whatever the order.
+// Covers the pass's points first .. last - 1 (first a multiple of kBlock).
 template <typename T, bool kGradient, bool kCarry, bool kContiguous, typename IndexOf>
-FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
-                        UndoJournal* journal) {
+PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::size_t first, std::size_t last,
+                            IndexOf index_of, UndoJournal* journal) noexcept {
   static_assert(kGradient || !kCarry, "carrying normals needs the gradient");
   Block<T> b;
   GradientBlock<T> gb;
@@ -325,9 +340,8 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
     lane_min_det[k] = T(1);
   }
   std::uint32_t bad = 0;
-  if (journal) journal->clear();
-  for (std::size_t begin = 0; begin < count; begin += kBlock) {
-    const std::size_t n = std::min(kBlock, count - begin);
+  for (std::size_t begin = first; begin < last; begin += kBlock) {
+    const std::size_t n = std::min(kBlock, last - begin);
     float *x, *y, *z, *nx = nullptr, *ny = nullptr, *nz = nullptr;
     if constexpr (kContiguous) {
       x = model.x.data() + begin;
@@ -367,55 +381,91 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
       if constexpr (kCarry) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
     }
   }
-  T max_squared = T(0);
-  T min_det = T(1);
+  PassExtremes<T> e;
+  e.bad = bad;
   for (std::size_t k = 0; k < kBlock; ++k) {
-    max_squared = lane_max_squared[k] > max_squared ? lane_max_squared[k] : max_squared;
-    min_det = lane_min_det[k] < min_det ? lane_min_det[k] : min_det;
+    e.max_squared = lane_max_squared[k] > e.max_squared ? lane_max_squared[k] : e.max_squared;
+    e.min_det = lane_min_det[k] < e.min_det ? lane_min_det[k] : e.min_det;
+  }
+  return e;
+}
+
+// Below this many points a pass runs on the caller alone: waking the worker costs microseconds.
+constexpr std::size_t kMinSplitPoints = 16384;
+
+// A pass over `count` points, split at a block boundary between the caller and the worker when
+// there is one and the pass is large enough.
+template <typename T, bool kGradient, bool kCarry, bool kContiguous, typename IndexOf>
+FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
+                        UndoJournal* journal, FieldWorker* worker) {
+  if (journal) JournalWriter{*journal}.begin_pass(kContiguous, kCarry, count);
+  PassExtremes<T> e;
+  if (!worker || count < kMinSplitPoints) {
+    e = apply_range<T, kGradient, kCarry, kContiguous>(model, t, 0, count, index_of, journal);
+  } else {
+    struct Halves {
+      PointModel& model;
+      const SourceTable<T>& table;
+      IndexOf index_of;
+      UndoJournal* journal;
+      std::size_t split, count;
+      PassExtremes<T> part[2];
+    } halves{model, t, index_of, journal, (count / 2 + kBlock - 1) / kBlock * kBlock, count, {}};
+    worker->run_both(
+        [](void* context, int part) noexcept {
+          Halves& h = *static_cast<Halves*>(context);
+          const std::size_t first = part == 0 ? 0 : h.split, last = part == 0 ? h.split : h.count;
+          h.part[part] =
+              apply_range<T, kGradient, kCarry, kContiguous>(h.model, h.table, first, last, h.index_of, h.journal);
+        },
+        &halves);
+    e.max_squared = std::max(halves.part[0].max_squared, halves.part[1].max_squared);
+    e.min_det = std::min(halves.part[0].min_det, halves.part[1].min_det);
+    e.bad = halves.part[0].bad | halves.part[1].bad;
   }
   FieldResult result;
-  result.finite = bad == 0 && std::isfinite(static_cast<double>(max_squared));
-  result.max_displacement = std::sqrt(static_cast<double>(max_squared));
-  result.min_jacobian = static_cast<double>(min_det);
+  result.finite = e.bad == 0 && std::isfinite(static_cast<double>(e.max_squared));
+  result.max_displacement = std::sqrt(static_cast<double>(e.max_squared));
+  result.min_jacobian = static_cast<double>(e.min_det);
   return result;
 }
 
 // The three loop variants as compile-time choices, so none of them tests a flag per point.
 template <typename T, bool kContiguous, typename IndexOf>
 FieldResult apply_variant(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
-                          bool carry_normals, bool jacobian, UndoJournal* journal) {
-  if (carry_normals) return apply_typed<T, true, true, kContiguous>(model, t, count, index_of, journal);
-  if (jacobian) return apply_typed<T, true, false, kContiguous>(model, t, count, index_of, journal);
-  return apply_typed<T, false, false, kContiguous>(model, t, count, index_of, journal);
+                          bool carry_normals, bool jacobian, UndoJournal* journal, FieldWorker* worker) {
+  if (carry_normals) return apply_typed<T, true, true, kContiguous>(model, t, count, index_of, journal, worker);
+  if (jacobian) return apply_typed<T, true, false, kContiguous>(model, t, count, index_of, journal, worker);
+  return apply_typed<T, false, false, kContiguous>(model, t, count, index_of, journal, worker);
 }
 
 template <typename T>
 FieldResult apply_in(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
                      std::span<const std::uint32_t> indices, bool all_points, bool carry_normals, bool jacobian,
-                     UndoJournal* journal) {
+                     UndoJournal* journal, FieldWorker* worker) {
   const SourceTable<T> table = make_table<T>(kernel, sources);
   if (all_points) {
     return apply_variant<T, true>(
-        model, table, model.size(), [](std::size_t k) { return k; }, carry_normals, jacobian, journal);
+        model, table, model.size(), [](std::size_t k) { return k; }, carry_normals, jacobian, journal, worker);
   }
   const std::uint32_t* idx = indices.data();
   return apply_variant<T, false>(
       model, table, indices.size(), [idx](std::size_t k) { return std::size_t{idx[k]}; }, carry_normals, jacobian,
-      journal);
+      journal, worker);
 }
 
 }  // namespace
 
 FieldResult apply_displacements(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
                                 std::span<const std::uint32_t> indices, bool all_points, const FieldOptions& options,
-                                bool jacobian, UndoJournal* journal) noexcept {
+                                bool jacobian, UndoJournal* journal, FieldWorker* worker) noexcept {
   if (journal) journal->clear();
   if (sources.empty()) return {};
   const bool normals = options.carry_normals && model.has_normals();
   if (options.precision == Precision::kDouble) {
-    return apply_in<double>(model, kernel, sources, indices, all_points, normals, jacobian, journal);
+    return apply_in<double>(model, kernel, sources, indices, all_points, normals, jacobian, journal, worker);
   }
-  return apply_in<float>(model, kernel, sources, indices, all_points, normals, jacobian, journal);
+  return apply_in<float>(model, kernel, sources, indices, all_points, normals, jacobian, journal, worker);
 }
 
 }  // namespace sculpt::deform

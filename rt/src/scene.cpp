@@ -138,7 +138,7 @@ void read_heuristic(const Section& root, Scene& scene) {
 
 void read_deform(const Section& root, Scene& scene) {
   const Section s = root.table("deform", {"form", "mode", "bc_radius", "delta_s", "delta_d", "delta_r", "precision",
-                                          "carry_normals", "border_weight", "max_patch_points"});
+                                          "carry_normals", "border_weight", "max_patch_points", "threads"});
   auto& d = scene.deform;
   d.form = s.choice<deform::WeightForm>("form",
                                         {{"scale", deform::WeightForm::kScale}, {"force", deform::WeightForm::kForce}})
@@ -153,6 +153,7 @@ void read_deform(const Section& root, Scene& scene) {
   if (const auto cap = s.integer_in("max_patch_points", 1, static_cast<std::int64_t>(deform::kMaxPatchPointsLimit))) {
     d.max_patch_points = static_cast<std::size_t>(*cap);
   }
+  if (const auto threads = s.integer_in("threads", 1, 2)) d.threads = static_cast<int>(*threads);
   d.precision = s.choice<deform::Precision>(
                      "precision", {{"float", deform::Precision::kFloat}, {"double", deform::Precision::kDouble}})
                     .value_or(d.precision);

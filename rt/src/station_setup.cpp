@@ -134,6 +134,7 @@ StationSetup prepare_station(const Scene& scene) {
   st.delta_s = pick(scene.deform.delta_s, 1.0, "deform.delta_s");
   d.solver.form = scene.deform.form;
   d.field.precision = scene.deform.precision;
+  d.threads = scene.deform.threads;
   d.field.carry_normals = scene.deform.carry_normals;
   d.region.border_weight = scene.deform.border_weight;
   switch (scene.heuristic.region) {

@@ -142,6 +142,7 @@ TEST(Scene, DefaultsAreApplied) {
   EXPECT_EQ(s.deform.precision, deform::Precision::kFloat);
   EXPECT_TRUE(s.deform.carry_normals);
   EXPECT_DOUBLE_EQ(s.deform.border_weight, 1.0);
+  EXPECT_EQ(s.deform.threads, 1);
   EXPECT_EQ(s.heuristic.region, RegionChoice::kGlobal);
   EXPECT_DOUBLE_EQ(s.heuristic.budget_fraction, 0.6);
   EXPECT_DOUBLE_EQ(s.heuristic.reduced_ratio, 1.0);
@@ -315,6 +316,7 @@ delta_r = 0.1
 precision = "double"
 carry_normals = false
 border_weight = 2.5
+threads = 2
 [heuristic]
 region = 0.3
 budget_fraction = 0.5
@@ -362,6 +364,7 @@ flush_interval_ms = 20
   EXPECT_EQ(s.deform.precision, deform::Precision::kDouble);
   EXPECT_FALSE(s.deform.carry_normals);
   EXPECT_DOUBLE_EQ(s.deform.border_weight, 2.5);
+  EXPECT_EQ(s.deform.threads, 2);
   EXPECT_EQ(s.heuristic.region, RegionChoice::kRadius);
   EXPECT_DOUBLE_EQ(s.heuristic.region_radius, 0.3);
   EXPECT_DOUBLE_EQ(s.heuristic.reduced_ratio, 0.25);
@@ -481,6 +484,7 @@ landmarks = [
       {"loop rate too low", kMinimal + "[loop]\nrate_hz = 20\n", "loop.rate_hz", 9,
        "out of range: 20 is not in [50, 2000]"},
       {"loop rate too high", kMinimal + "[loop]\nrate_hz = 5000\n", "loop.rate_hz", 9, "out of range"},
+      {"three threads", kMinimal + "[deform]\nthreads = 3\n", "deform.threads", 9, "out of range: 3 is not in [1, 2]"},
       {"nu above 0.5", kMinimal + "[material]\nnu = 0.6\n", "material.nu", 9, "out of range: 0.6 is not in (-1, 0.5]"},
       {"nu at -1", kMinimal + "[material]\nG = 1e6\nnu = -1\n", "material.nu", 10, "out of range"},
       {"negative G", kMinimal + "[material]\nG = -5\n", "material.G", 9, "must be > 0"},

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstring>
 #include <deque>
 #include <thread>
 
@@ -132,6 +133,46 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
 
 // Two hands, the right one goes silent: its finger is released within one tick past the
 // timeout and cannot deform until it reports again, while the left one keeps sculpting.
+// With the displacement loop's worker on the second core (deform threads = 2) and a model big
+// enough that every frame is split: the tick still allocates nothing from the first tick (the
+// worker was started when the station was built), and the sculpted model is byte for byte the
+// one a single thread makes.
+TEST(Station, TheSecondCoresWorkerAllocatesNothingAndChangesNoByte) {
+  const deform::PointModel base = deform::make_sphere(40000);
+  deform::PointModel models[2] = {base, base};
+  std::uint64_t allocations[2] = {0, 0}, frames[2] = {0, 0};
+  for (int t = 0; t < 2; ++t) {
+    StationSettings settings = press_settings();
+    settings.region.kind = RegionPolicy::Kind::kGlobal;  // every point: the pass is split
+    settings.deform.threads = t + 1;
+    auto glove = std::make_unique<FakeGlove>();
+    FakeGlove* g = glove.get();
+    std::vector<hal::HapticCommand> haptics;
+    haptics.reserve(1000);
+    Station station(models[t], settings, std::move(glove), std::make_unique<RecordingSink>(&haptics));
+    station.start();
+    std::int64_t now = 0;
+    test::AllocationCounter counter;
+    for (int i = 0; i <= 20; ++i) {
+      for (int k = 0; k < 5; ++k) {
+        now += kMs;
+        if (k == 0) g->feed({0.0, 0.0, 1.3 - 0.02 * i}, now, static_cast<std::uint64_t>(now / 1000));
+        station.tick(now, kMs);
+      }
+    }
+    allocations[t] = counter.count();
+    frames[t] = station.totals().frames;
+  }
+  EXPECT_EQ(allocations[1], 0u) << "the tick allocated with the worker";
+  EXPECT_EQ(allocations[0], 0u);
+  EXPECT_GT(frames[1], 10u);
+  EXPECT_EQ(frames[0], frames[1]);
+  EXPECT_EQ(std::memcmp(models[0].z.data(), models[1].z.data(), base.size() * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(models[0].x.data(), models[1].x.data(), base.size() * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(models[0].nz.data(), models[1].nz.data(), base.size() * sizeof(float)), 0);
+  EXPECT_NE(std::memcmp(models[0].z.data(), base.z.data(), base.size() * sizeof(float)), 0);
+}
+
 TEST(Station, ASilentHandIsReleasedWhileTheOtherKeepsSculpting) {
   deform::PointModel sphere = deform::make_sphere();
   StationSettings s = press_settings();

@@ -64,6 +64,12 @@ expect_exit 0 "repeated push" -- "$SCULPT" deform --model "$sphere" --out "$work
   --contact 0,0,1.1:0,0,0.95 --repeat 25 --json "$work/report.json"
 expect_json "repeat times" "j['repeat'] == 25 and 0 < j['time_ms']['frame_median'] <= j['time_ms']['frame_p99'] and j['time_ms']['frame'] > 0"
 if cmp -s "$work/repeated.ply" "$work/pushed.ply"; then ok "repeated push writes the one-run model"; else bad "--repeat 25 wrote another model than one run"; fi
+# --threads 2: half of a large pass on a second core, the same bytes as one thread.
+expect_exit 0 "generate a 40k sphere to split" -- "$SCULPT" generate sphere --points 40000 --out "$work/sphere40k-threads.ply"
+expect_exit 0 "push with one thread" -- "$SCULPT" deform --model "$work/sphere40k-threads.ply" --out "$work/one-thread.ply" --contact 0,0,1.1:0,0,0.97
+expect_exit 0 "push with two threads" -- "$SCULPT" deform --model "$work/sphere40k-threads.ply" --out "$work/two-threads.ply" --contact 0,0,1.1:0,0,0.97 --threads 2 --repeat 5
+if cmp -s "$work/one-thread.ply" "$work/two-threads.ply"; then ok "two threads write the one-thread model"; else bad "--threads 2 wrote another model"; fi
+expect_exit 2 "--threads 3 refused" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --threads 3
 expect_exit 2 "--repeat 0 refused" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --repeat 0
 expect_exit 0 "two fingers" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 \
   --contact 1.1,0,0:0.95,0,0 --json "$work/report.json"

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "sculpt/deform/field_worker.hpp"
 #include "sculpt/deform/kernel.hpp"
 #include "sculpt/deform/point_model.hpp"
 
@@ -74,9 +75,12 @@ struct FieldResult {
 /// `indices` empty and `all_points` true, every point moves (contiguous, fastest). With
 /// `jacobian`, det(I + grad u) is evaluated at every moved point even when no normal is carried.
 /// With `journal` (cleared first, reserved for every moved point) the old values are recorded
-/// so the caller can undo the pass. No allocation; noexcept; at most kMaxSources sources.
+/// so the caller can undo the pass. With `worker`, a large pass is split between the caller and
+/// the worker's core; the result is bit for bit the same. No allocation; noexcept; at most
+/// kMaxSources sources.
 FieldResult apply_displacements(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
                                 std::span<const std::uint32_t> indices, bool all_points, const FieldOptions& options,
-                                bool jacobian = false, UndoJournal* journal = nullptr) noexcept;
+                                bool jacobian = false, UndoJournal* journal = nullptr,
+                                FieldWorker* worker = nullptr) noexcept;
 
 }  // namespace sculpt::deform

@@ -85,6 +85,7 @@ struct DeformScene {
   bool carry_normals = true;
   double border_weight = 1.0;           ///< weight of the region's pinned band (localised regions only)
   std::size_t max_patch_points = 1024;  ///< boundary-condition points per finger's patch, thinned beyond
+  int threads = 1;                      ///< 2: the displacement loop's worker on the second core
 };
 
 enum class RegionChoice {

@@ -1,0 +1,45 @@
+#include "sculpt/deform/field_worker.hpp"
+
+namespace sculpt::deform {
+
+FieldWorker::FieldWorker() : thread_([this] { loop(); }) {}
+
+FieldWorker::~FieldWorker() {
+  stop_.store(true, std::memory_order_release);
+  posted_.fetch_add(1, std::memory_order_acq_rel);
+  posted_.notify_one();
+  thread_.join();
+}
+
+void FieldWorker::run_both(Task task, void* context) noexcept {
+  task_ = task;
+  context_ = context;
+  // Release: the task and its context (and everything the caller wrote before) are visible to
+  // the worker once it sees the new generation.
+  const std::uint64_t generation = posted_.fetch_add(1, std::memory_order_acq_rel) + 1;
+  posted_.notify_one();
+  task(context, 0);
+  // Acquire: the worker's half of the results is visible here once it reports the generation.
+  for (std::uint64_t seen = done_.load(std::memory_order_acquire); seen != generation;
+       seen = done_.load(std::memory_order_acquire)) {
+    done_.wait(seen, std::memory_order_acquire);
+  }
+}
+
+void FieldWorker::loop() noexcept {
+  std::uint64_t handled = 0;
+  for (;;) {
+    std::uint64_t generation = posted_.load(std::memory_order_acquire);
+    while (generation == handled) {
+      posted_.wait(generation, std::memory_order_acquire);
+      generation = posted_.load(std::memory_order_acquire);
+    }
+    if (stop_.load(std::memory_order_acquire)) return;
+    task_(context_, 1);
+    handled = generation;
+    done_.store(generation, std::memory_order_release);
+    done_.notify_one();
+  }
+}
+
+}  // namespace sculpt::deform
