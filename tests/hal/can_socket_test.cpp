@@ -69,7 +69,7 @@ TEST(CanSocket, RejectsBadConfigAtConstruction) {
   EXPECT_THROW(CanGloveSource{config}, std::invalid_argument);
 }
 
-class VcanTest : public ::testing::TestWithParam<bool> {
+class CanSocketVcan : public ::testing::TestWithParam<bool> {
  protected:
   void SetUp() override {
     const std::string why = af_can_missing();
@@ -112,7 +112,7 @@ class VcanTest : public ::testing::TestWithParam<bool> {
   int peer_ = -1;
 };
 
-TEST_P(VcanTest, SourceDecodesSamplesSentByAnotherSocket) {
+TEST_P(CanSocketVcan, SourceDecodesSamplesSentByAnotherSocket) {
   const bool fd = GetParam();
   CanConfig config;
   config.interface = kVcan;
@@ -147,7 +147,7 @@ TEST_P(VcanTest, SourceDecodesSamplesSentByAnotherSocket) {
   source.stop();
 }
 
-TEST_P(VcanTest, SinkSendsCommandsAnotherSocketDecodes) {
+TEST_P(CanSocketVcan, SinkSendsCommandsAnotherSocketDecodes) {
   const bool fd = GetParam();
   CanConfig config;
   config.interface = kVcan;
@@ -171,7 +171,7 @@ TEST_P(VcanTest, SinkSendsCommandsAnotherSocketDecodes) {
   sink.stop();
 }
 
-INSTANTIATE_TEST_SUITE_P(ClassicAndFd, VcanTest, ::testing::Values(false, true),
+INSTANTIATE_TEST_SUITE_P(ClassicAndFd, CanSocketVcan, ::testing::Values(false, true),
                          [](const auto& info) { return info.param ? "fd" : "classic"; });
 
 }  // namespace
