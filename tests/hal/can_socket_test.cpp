@@ -5,15 +5,18 @@
 #include <gtest/gtest.h>
 
 #include <linux/can.h>
+#include <linux/can/error.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -87,7 +90,53 @@ class CanSocketVcan : public ::testing::TestWithParam<bool> {
     ASSERT_EQ(::bind(peer_, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
   }
   void TearDown() override {
+    if (interface_was_set_down_) set_vcan_up(true);
     if (peer_ >= 0) ::close(peer_);
+  }
+  CanConfig vcan_config() const {
+    CanConfig config;
+    config.interface = kVcan;
+    config.fd = GetParam();
+    return config;
+  }
+  // An error frame as a CAN controller's driver would report it: CAN_ERR_FLAG plus the class
+  // bits in the id, details in the 8 data bytes (linux/can/error.h).
+  void write_error_frame(canid_t error_class, std::uint8_t controller_detail = 0) const {
+    can_frame raw{};
+    raw.can_id = CAN_ERR_FLAG | error_class;
+    raw.len = CAN_ERR_DLC;
+    raw.data[1] = controller_detail;
+    ASSERT_EQ(::write(peer_, &raw, CAN_MTU), static_cast<ssize_t>(CAN_MTU));
+  }
+  void write_samples(const CanConfig& config, std::uint32_t first_sequence, std::uint32_t count) const {
+    GloveSample s;
+    s.hand = 0;
+    s.kind = SampleKind::kAngles;
+    s.angles[0] = {0.5f, 0.25f, 0.125f, 0.0625f};
+    std::array<CanFrame, kCanMaxSampleFrames> frames;
+    for (std::uint32_t seq = first_sequence; seq < first_sequence + count; ++seq) {
+      s.sequence = seq;
+      const std::size_t n = encode_sample(s, config.base_id, config.fd, frames);
+      for (std::size_t k = 0; k < n; ++k) write_frame(frames[k]);
+    }
+  }
+  // Brings vcan0 down or up as `ip link set` does (needs CAP_NET_ADMIN); false if refused.
+  bool set_vcan_up(bool up) {
+    ifreq request{};
+    std::strncpy(request.ifr_name, kVcan, IFNAMSIZ - 1);
+    if (::ioctl(peer_, SIOCGIFFLAGS, &request) != 0) return false;
+    if (up)
+      request.ifr_flags = static_cast<short>(request.ifr_flags | IFF_UP);
+    else
+      request.ifr_flags = static_cast<short>(request.ifr_flags & ~IFF_UP);
+    if (::ioctl(peer_, SIOCSIFFLAGS, &request) != 0) return false;
+    interface_was_set_down_ = !up;
+    // The kernel tells every socket bound to the interface it went down with a pending
+    // ENETDOWN, which the next write would return: this socket takes it here.
+    int pending = 0;
+    socklen_t size = sizeof pending;
+    ::getsockopt(peer_, SOL_SOCKET, SO_ERROR, &pending, &size);
+    return true;
   }
   void write_frame(const CanFrame& f) const {
     canfd_frame raw{};
@@ -110,6 +159,29 @@ class CanSocketVcan : public ::testing::TestWithParam<bool> {
     return true;
   }
   int peer_ = -1;
+  bool interface_was_set_down_ = false;
+};
+
+// Polls `done` every 5 ms for up to 5 s.
+bool eventually(const std::function<bool()>& done) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > give_up) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return true;
+}
+
+// What a source has handed out, polled for until there are `want` samples.
+struct Received {
+  std::array<GloveSample, 16> samples;
+  std::size_t count = 0;
+  bool until(GloveSource& source, std::size_t want) {
+    return eventually([&] {
+      count += source.poll(std::span(samples).subspan(count));
+      return count >= want;
+    });
+  }
 };
 
 TEST_P(CanSocketVcan, SourceDecodesSamplesSentByAnotherSocket) {
@@ -164,11 +236,100 @@ TEST_P(CanSocketVcan, SinkSendsCommandsAnotherSocketDecodes) {
   HapticCommand out;
   CanFrame f;
   bool complete = false;
-  while (!complete && read_frame(f)) complete = decoder.feed(f, out) == CanFeedResult::kComplete;
+  while (!complete && read_frame(f)) {
+    EXPECT_EQ(f.fd, fd) << "the sink wrote a frame of the other kind";
+    complete = decoder.feed(f, out) == CanFeedResult::kComplete;
+  }
   ASSERT_TRUE(complete);
   EXPECT_EQ(out.tick, 77u);
   EXPECT_EQ(out.force, c.force);
   sink.stop();
+}
+
+// vcan has no controller, so it never goes bus-off or recovers by itself; what can be shown is
+// the source's side: error frames as a controller's driver sends them (a controller problem, a
+// bus-off, the restart after it) are counted by kind and do not disturb the samples around them.
+TEST_P(CanSocketVcan, ErrorFramesAreCountedAndSamplesGoOn) {
+  const CanConfig config = vcan_config();
+  CanGloveSource source(config);
+  source.start();
+  write_samples(config, 0, 5);
+  write_error_frame(CAN_ERR_CRTL, CAN_ERR_CRTL_RX_WARNING);
+  write_error_frame(CAN_ERR_BUSOFF);
+  write_error_frame(CAN_ERR_RESTARTED);
+  write_samples(config, 5, 5);
+  Received got;
+  ASSERT_TRUE(got.until(source, 10)) << got.count << " samples";
+  ASSERT_TRUE(eventually([&] { return source.counters().error_frames >= 3; }));
+  for (std::size_t i = 0; i < got.count; ++i) EXPECT_EQ(got.samples[i].sequence, i);
+  const SourceCounters c = source.counters();
+  EXPECT_EQ(c.samples, 10u);
+  EXPECT_EQ(c.error_frames, 3u);
+  EXPECT_EQ(c.bus_off, 1u);
+  EXPECT_EQ(c.framing_errors + c.crc_errors + c.sequence_gaps, 0u);
+  EXPECT_EQ(source.state(), SourceState::kConnected);
+  source.stop();
+}
+
+// Remote frames and frames for other ids share the bus with the glove and are none of its
+// business: not samples, not errors.
+TEST_P(CanSocketVcan, RemoteAndForeignFramesAreIgnored) {
+  const CanConfig config = vcan_config();
+  CanGloveSource source(config);
+  source.start();
+  can_frame remote{};
+  remote.can_id = config.base_id | CAN_RTR_FLAG;
+  remote.len = 8;
+  ASSERT_EQ(::write(peer_, &remote, CAN_MTU), static_cast<ssize_t>(CAN_MTU));
+  CanFrame foreign;
+  foreign.id = config.base_id + kCanIdSpan + 1;
+  foreign.fd = config.fd;
+  foreign.len = 8;
+  foreign.data.fill(0xAB);
+  write_frame(foreign);
+  write_samples(config, 0, 3);
+  Received got;
+  ASSERT_TRUE(got.until(source, 3));
+  const SourceCounters c = source.counters();
+  EXPECT_EQ(c.samples, 3u);
+  EXPECT_EQ(c.error_frames + c.framing_errors + c.crc_errors + c.sequence_gaps, 0u);
+  source.stop();
+}
+
+// The interface going down (a USB-CAN adapter's link dropping, `ip link set down`) is a
+// disconnect; the sink's writes meanwhile are dropped, not blocked; up again, the next frame
+// reconnects the source and the sink's commands go out again.
+TEST_P(CanSocketVcan, InterfaceDownIsADisconnectAndUpAReconnect) {
+  const CanConfig config = vcan_config();
+  CanGloveSource source(config);
+  source.start();
+  CanHapticSink sink(config);
+  sink.start();
+  write_samples(config, 0, 2);
+  Received got;
+  ASSERT_TRUE(got.until(source, 2));
+  if (!set_vcan_up(false)) GTEST_SKIP() << "cannot bring " << kVcan << " down here (" << std::strerror(errno) << ")";
+  ASSERT_TRUE(eventually([&] { return source.state() == SourceState::kDisconnected; }));
+  EXPECT_EQ(source.counters().disconnects, 1u);
+  HapticCommand c;
+  c.tick = 1;
+  c.active_mask = 0x1;
+  c.force[0] = {0.5f, 0.0f, 0.0f};
+  ASSERT_TRUE(sink.send(c));
+  ASSERT_TRUE(eventually([&] { return sink.dropped() >= 1; })) << "a write to a down interface was not dropped";
+  EXPECT_EQ(sink.sent(), 0u);
+
+  ASSERT_TRUE(set_vcan_up(true));
+  write_samples(config, 2, 2);
+  ASSERT_TRUE(got.until(source, 4)) << got.count << " samples";
+  EXPECT_EQ(source.state(), SourceState::kConnected);
+  EXPECT_EQ(source.counters().reconnects, 1u);
+  EXPECT_EQ(source.counters().samples, 4u);
+  c.tick = 2;
+  ASSERT_TRUE(sink.send(c));
+  ASSERT_TRUE(eventually([&] { return sink.sent() >= 1; }));
+  sink.stop();
+  source.stop();
 }
 
 INSTANTIATE_TEST_SUITE_P(ClassicAndFd, CanSocketVcan, ::testing::Values(false, true),
