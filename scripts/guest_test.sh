@@ -2,10 +2,10 @@
 # Runs a test suite inside Debian's own kernel, booted by qemu, for the parts of hal that need
 # kernel features this host may lack (AF_CAN and vcan; dummy_hcd and FunctionFS).
 #
-#   scripts/guest_test.sh [SUITE]        SUITE: can (default)
+#   scripts/guest_test.sh [SUITE]        SUITE: can (default) or usb
 #
-# Environment: BUILD (build directory, default ./build), QEMU, BUSYBOX, HAL_TESTS (default
-# $BUILD/tests/hal_tests), GUEST_TIMEOUT (seconds, default 240), GUEST_KERNEL_PACKAGE
+# Environment: BUILD (build directory, default ./build; the suite's test programs are taken
+# from its tests/ folder), QEMU, BUSYBOX, GUEST_TIMEOUT (seconds, default 240), GUEST_KERNEL_PACKAGE
 # (default: what linux-image-amd64 depends on).
 #
 # The kernel package is fetched once with `apt-get download` (not installed) and unpacked into
@@ -29,21 +29,27 @@ SOURCE=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${BUILD:-$SOURCE/build}
 BUILD=$(cd "$BUILD" && pwd) || fail "no build directory '$BUILD'"
 SUITE=${1:-can}
-HAL_TESTS=${HAL_TESTS:-$BUILD/tests/hal_tests}
 GUEST_TIMEOUT=${GUEST_TIMEOUT:-240}
 BUSYBOX=${BUSYBOX:-/usr/bin/busybox}
 QEMU=${QEMU:-qemu-system-x86_64}
 CACHE=$BUILD/guest
 GUEST_DIR=$SOURCE/tests/guest
 
-# Per suite: the modules to load (their dependencies come along) and host programs to copy in
-# with their libraries (the suite script finds them under /opt/host/).
+# Per suite: the modules to load (their dependencies come along), the project's programs (built
+# targets, under /opt/sculpt/ in the guest) and host programs (under /opt/host/) to copy in
+# with their libraries.
 case "$SUITE" in
   can)
     MODULES=(vcan can-raw)
+    TARGETS=(hal_tests)
     PROGRAMS=(ip) # iproute2's: busybox's ip cannot create a vcan link
     ;;
-  *) fail "unknown suite '$SUITE' (can)" ;;
+  usb)
+    MODULES=(dummy_hcd usb_f_fs)
+    TARGETS=(guest_usb_tests ffs_glove)
+    PROGRAMS=()
+    ;;
+  *) fail "unknown suite '$SUITE' (can, usb)" ;;
 esac
 [ -f "$GUEST_DIR/$SUITE.sh" ] || fail "no $GUEST_DIR/$SUITE.sh"
 
@@ -52,7 +58,9 @@ command -v "$QEMU" >/dev/null || skip "$QEMU not found (Debian package qemu-syst
 if ldd "$BUSYBOX" >/dev/null 2>&1; then
   skip "$BUSYBOX is linked dynamically; the guest needs a static one (Debian package busybox-static)"
 fi
-[ -x "$HAL_TESTS" ] || fail "no test binary $HAL_TESTS (build the target hal_tests first)"
+for target in "${TARGETS[@]}"; do
+  [ -x "$BUILD/tests/$target" ] || fail "no $BUILD/tests/$target (build the target $target first)"
+done
 
 # --- the kernel: fetched and unpacked once, under a lock (suites may run in parallel) ---------
 mkdir -p "$CACHE"
@@ -129,8 +137,8 @@ copy_program() { # host path, guest path
 }
 ROOT=$CACHE/root-$SUITE
 INITRD=$CACHE/initrd-$SUITE.gz
-build_initrd() { # test binary
-  local path program host_path
+build_initrd() { # the folder holding the suite's built targets
+  local path program host_path target
   rm -rf "$ROOT"
   mkdir -p "$ROOT"/{bin,dev,proc,sys,tmp,etc,opt/sculpt}
   cp "$BUSYBOX" "$ROOT/bin/busybox"
@@ -142,8 +150,10 @@ build_initrd() { # test binary
     cp "$MODDIR/$path" "$ROOT/lib/modules/$KERNEL_VERSION/$path"
     echo "/lib/modules/$KERNEL_VERSION/$path" >>"$ROOT/etc/guest-modules"
   done
-  copy_program "$1" /opt/sculpt/hal_tests
-  for program in "${PROGRAMS[@]}"; do
+  for target in "${TARGETS[@]}"; do
+    copy_program "$1/$target" "/opt/sculpt/$target"
+  done
+  for program in ${PROGRAMS[@]+"${PROGRAMS[@]}"}; do
     host_path=$(command -v "$program") || skip "no $program on this host to copy into the guest"
     copy_program "$host_path" "/opt/host/$program"
   done
@@ -151,24 +161,25 @@ build_initrd() { # test binary
 }
 
 # Software emulation cannot run a binary built for this machine's CPU (SCULPT_NATIVE: qemu's
-# "max" CPU has AVX2 but no AVX-512), so under it the guest gets hal_tests from a portable
-# build of its own, kept in $CACHE/portable (configured once, then rebuilt incrementally).
-portable_hal_tests() {
+# "max" CPU has AVX2 but no AVX-512), so under it the guest gets the suite's programs from a
+# portable build of their own, kept in $CACHE/portable (configured once, then rebuilt
+# incrementally). Prints the folder holding them.
+portable_targets() {
   local portable=$CACHE/portable flags
   if ! grep -q '^SCULPT_NATIVE:BOOL=ON' "$BUILD/CMakeCache.txt" 2>/dev/null; then
-    echo "$HAL_TESTS"
+    echo "$BUILD/tests"
     return
   fi
   flags=$(sed -n 's/^CMAKE_CXX_FLAGS:STRING=//p' "$BUILD/CMakeCache.txt")
-  echo "guest_test: building a portable hal_tests (SCULPT_NATIVE=OFF) in $portable" >&2
+  echo "guest_test: building a portable ${TARGETS[*]} (SCULPT_NATIVE=OFF) in $portable" >&2
   if [ ! -f "$portable/build.ninja" ]; then
     cmake -S "$SOURCE" -B "$portable" -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS=$flags" \
       -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF >"$CACHE/portable.log" 2>&1 ||
       fail "configuring the portable build failed (see $CACHE/portable.log)"
   fi
-  cmake --build "$portable" -j "${GUEST_BUILD_JOBS:-2}" --target hal_tests >>"$CACHE/portable.log" 2>&1 ||
-    fail "building the portable hal_tests failed (see $CACHE/portable.log)"
-  echo "$portable/tests/hal_tests"
+  cmake --build "$portable" -j "${GUEST_BUILD_JOBS:-2}" --target "${TARGETS[@]}" >>"$CACHE/portable.log" 2>&1 ||
+    fail "building the portable ${TARGETS[*]} failed (see $CACHE/portable.log)"
+  echo "$portable/tests"
 }
 
 # --- boot ---------------------------------------------------------------------------------------
@@ -200,7 +211,7 @@ KVM_VERDICT=$CACHE/kvm-stalls
 if [ "$(cat "$KVM_VERDICT" 2>/dev/null)" != "$(uname -r)" ] && { exec 8<>/dev/kvm; } 2>/dev/null; then
   exec 8>&-
   echo "guest_test: booting $KERNEL_PACKAGE ($KERNEL_VERSION) with KVM, suite '$SUITE'" >&2
-  build_initrd "$HAL_TESTS"
+  build_initrd "$BUILD/tests"
   boot -enable-kvm -cpu host
   if booted_within "${GUEST_KVM_BOOT_TIMEOUT:-15}"; then
     ACCEL_NAME=KVM
@@ -214,7 +225,8 @@ fi
 if [ -z "$ACCEL_NAME" ]; then
   ACCEL_NAME="software emulation (TCG)"
   [ ! -f "$KVM_VERDICT" ] || echo "guest_test: KVM stalls on this host ($KVM_VERDICT)" >&2
-  build_initrd "$(portable_hal_tests)"
+  programs=$(portable_targets)
+  build_initrd "$programs"
   echo "guest_test: booting $KERNEL_PACKAGE ($KERNEL_VERSION) with $ACCEL_NAME, suite '$SUITE'" >&2
   boot -accel tcg -cpu max
 fi
