@@ -7,6 +7,9 @@
 #include <linux/can.h>
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
+#include <linux/if_link.h>
+#include <linux/netlink.h>
+#include <linux/rtnetlink.h>
 #include <net/if.h>
 #include <poll.h>
 #include <sys/ioctl.h>
@@ -72,6 +75,52 @@ TEST(CanSocket, RejectsBadConfigAtConstruction) {
   EXPECT_THROW(CanGloveSource{config}, std::invalid_argument);
 }
 
+// Appends a netlink attribute to `message`, whose header says how long it is so far.
+void add_attribute(nlmsghdr& message, std::size_t capacity, unsigned short type, const void* data, std::size_t size) {
+  const std::size_t at = NLMSG_ALIGN(message.nlmsg_len);
+  ASSERT_LE(at + RTA_LENGTH(size), capacity);
+  auto* attribute = reinterpret_cast<rtattr*>(reinterpret_cast<char*>(&message) + at);
+  attribute->rta_type = type;
+  attribute->rta_len = static_cast<unsigned short>(RTA_LENGTH(size));
+  if (size > 0) std::memcpy(RTA_DATA(attribute), data, size);
+  message.nlmsg_len = static_cast<std::uint32_t>(at + RTA_ALIGN(attribute->rta_len));
+}
+
+// Creates vcan0 or deletes it, as `ip link add dev vcan0 type vcan` / `ip link del vcan0`
+// do (rtnetlink; needs CAP_NET_ADMIN). Returns 0 or the kernel's errno.
+int vcan_link(bool add) {
+  struct {
+    nlmsghdr header;
+    ifinfomsg info;
+    char attributes[128];
+  } request{};
+  request.header.nlmsg_len = NLMSG_LENGTH(sizeof request.info);
+  request.header.nlmsg_type = add ? RTM_NEWLINK : RTM_DELLINK;
+  request.header.nlmsg_flags = NLM_F_REQUEST | NLM_F_ACK | (add ? NLM_F_CREATE | NLM_F_EXCL : 0);
+  request.info.ifi_family = AF_UNSPEC;
+  add_attribute(request.header, sizeof request, IFLA_IFNAME, kVcan, std::strlen(kVcan) + 1);
+  if (add) {
+    const std::size_t link_info = NLMSG_ALIGN(request.header.nlmsg_len);
+    add_attribute(request.header, sizeof request, IFLA_LINKINFO, nullptr, 0);
+    add_attribute(request.header, sizeof request, IFLA_INFO_KIND, "vcan", 4);
+    auto* nest = reinterpret_cast<rtattr*>(reinterpret_cast<char*>(&request) + link_info);
+    nest->rta_len = static_cast<unsigned short>(request.header.nlmsg_len - link_info);
+  }
+  const int s = ::socket(AF_NETLINK, SOCK_RAW | SOCK_CLOEXEC, NETLINK_ROUTE);
+  if (s < 0) return errno;
+  int result = EIO;
+  if (::send(s, &request, request.header.nlmsg_len, 0) == static_cast<ssize_t>(request.header.nlmsg_len)) {
+    struct {
+      nlmsghdr header;
+      nlmsgerr error;
+    } ack{};
+    if (::recv(s, &ack, sizeof ack, 0) >= static_cast<ssize_t>(sizeof ack) && ack.header.nlmsg_type == NLMSG_ERROR)
+      result = -ack.error.error;
+  }
+  ::close(s);
+  return result;
+}
+
 class CanSocketVcan : public ::testing::TestWithParam<bool> {
  protected:
   void SetUp() override {
@@ -80,6 +129,11 @@ class CanSocketVcan : public ::testing::TestWithParam<bool> {
     if (::if_nametoindex(kVcan) == 0)
       GTEST_SKIP() << "AF_CAN works but there is no " << kVcan
                    << " (ip link add dev vcan0 type vcan && ip link set up vcan0)";
+    open_peer();
+  }
+  // The test's own socket on vcan0, for CAN FD and classic frames.
+  void open_peer() {
+    if (peer_ >= 0) ::close(peer_);
     peer_ = ::socket(PF_CAN, SOCK_RAW, CAN_RAW);
     ASSERT_GE(peer_, 0);
     const int on = 1;
@@ -90,6 +144,7 @@ class CanSocketVcan : public ::testing::TestWithParam<bool> {
     ASSERT_EQ(::bind(peer_, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
   }
   void TearDown() override {
+    if (::if_nametoindex(kVcan) == 0 && vcan_link(true) == 0) set_vcan_up(true);  // a test that removed it failed
     if (interface_was_set_down_) set_vcan_up(true);
     if (peer_ >= 0) ::close(peer_);
   }
@@ -182,6 +237,23 @@ struct Received {
       return count >= want;
     });
   }
+};
+
+// A running source and sink on one configuration, stopped when the test ends.
+struct SourceAndSink {
+  explicit SourceAndSink(const CanConfig& config) : source(config), sink(config) {
+    source.start();
+    sink.start();
+  }
+  ~SourceAndSink() {
+    sink.stop();
+    source.stop();
+  }
+  SourceAndSink(const SourceAndSink&) = delete;
+  SourceAndSink& operator=(const SourceAndSink&) = delete;
+  CanGloveSource source;
+  CanHapticSink sink;
+  Received got;
 };
 
 TEST_P(CanSocketVcan, SourceDecodesSamplesSentByAnotherSocket) {
@@ -301,35 +373,66 @@ TEST_P(CanSocketVcan, RemoteAndForeignFramesAreIgnored) {
 // reconnects the source and the sink's commands go out again.
 TEST_P(CanSocketVcan, InterfaceDownIsADisconnectAndUpAReconnect) {
   const CanConfig config = vcan_config();
-  CanGloveSource source(config);
-  source.start();
-  CanHapticSink sink(config);
-  sink.start();
+  SourceAndSink io(config);
   write_samples(config, 0, 2);
-  Received got;
-  ASSERT_TRUE(got.until(source, 2));
+  ASSERT_TRUE(io.got.until(io.source, 2));
   if (!set_vcan_up(false)) GTEST_SKIP() << "cannot bring " << kVcan << " down here (" << std::strerror(errno) << ")";
-  ASSERT_TRUE(eventually([&] { return source.state() == SourceState::kDisconnected; }));
-  EXPECT_EQ(source.counters().disconnects, 1u);
+  ASSERT_TRUE(eventually([&] { return io.source.state() == SourceState::kDisconnected; }));
+  EXPECT_EQ(io.source.counters().disconnects, 1u);
   HapticCommand c;
   c.tick = 1;
   c.active_mask = 0x1;
   c.force[0] = {0.5f, 0.0f, 0.0f};
-  ASSERT_TRUE(sink.send(c));
-  ASSERT_TRUE(eventually([&] { return sink.dropped() >= 1; })) << "a write to a down interface was not dropped";
-  EXPECT_EQ(sink.sent(), 0u);
+  ASSERT_TRUE(io.sink.send(c));
+  ASSERT_TRUE(eventually([&] { return io.sink.dropped() >= 1; })) << "a write to a down interface was not dropped";
+  EXPECT_EQ(io.sink.sent(), 0u);
 
   ASSERT_TRUE(set_vcan_up(true));
   write_samples(config, 2, 2);
-  ASSERT_TRUE(got.until(source, 4)) << got.count << " samples";
-  EXPECT_EQ(source.state(), SourceState::kConnected);
-  EXPECT_EQ(source.counters().reconnects, 1u);
-  EXPECT_EQ(source.counters().samples, 4u);
+  ASSERT_TRUE(io.got.until(io.source, 4)) << io.got.count << " samples";
+  EXPECT_EQ(io.source.state(), SourceState::kConnected);
+  EXPECT_EQ(io.source.counters().reconnects, 1u);
+  EXPECT_EQ(io.source.counters().samples, 4u);
   c.tick = 2;
-  ASSERT_TRUE(sink.send(c));
-  ASSERT_TRUE(eventually([&] { return sink.sent() >= 1; }));
-  sink.stop();
-  source.stop();
+  ASSERT_TRUE(io.sink.send(c));
+  ASSERT_TRUE(eventually([&] { return io.sink.sent() >= 1; }));
+}
+
+// A USB-CAN adapter unplugged and plugged in again takes its interface away and brings a new
+// one of the same name: vcan0 deleted and created again. The source disconnects and, once
+// the interface is back, reconnects with the next frame; the sink's commands go out again.
+TEST_P(CanSocketVcan, InterfaceRemovedAndAddedAgainIsAReconnect) {
+  const CanConfig config = vcan_config();
+  SourceAndSink io(config);
+  write_samples(config, 0, 2);
+  ASSERT_TRUE(io.got.until(io.source, 2));
+  const int removed = vcan_link(false);
+  if (removed == EPERM) GTEST_SKIP() << "cannot remove " << kVcan << " here (" << std::strerror(removed) << ")";
+  ASSERT_EQ(removed, 0) << std::strerror(removed);
+  ASSERT_TRUE(eventually([&] { return io.source.state() == SourceState::kDisconnected; }));
+  ASSERT_EQ(vcan_link(true), 0);
+  ASSERT_TRUE(set_vcan_up(true));
+  open_peer();
+  // The source reopens its socket on its own schedule: send until a sample gets through.
+  std::uint32_t sequence = 2;
+  ASSERT_TRUE(eventually([&] {
+    write_samples(config, sequence++, 1);
+    io.got.count += io.source.poll(std::span(io.got.samples).subspan(io.got.count));
+    return io.got.count >= 3;
+  })) << "no sample after "
+      << kVcan << " came back";
+  EXPECT_EQ(io.source.state(), SourceState::kConnected);
+  EXPECT_EQ(io.source.counters().disconnects, 1u);
+  EXPECT_EQ(io.source.counters().reconnects, 1u);
+  HapticCommand c;
+  c.tick = 3;
+  c.active_mask = 0x1;
+  const std::uint64_t sent_before = io.sink.sent();
+  ASSERT_TRUE(eventually([&] {
+    io.sink.send(c);
+    return io.sink.sent() > sent_before;
+  })) << "the sink sends nothing after "
+      << kVcan << " came back";
 }
 
 INSTANTIATE_TEST_SUITE_P(ClassicAndFd, CanSocketVcan, ::testing::Values(false, true),
