@@ -137,6 +137,17 @@ void CanGloveSource::on_frame(const CanFrame& frame) noexcept {
   }
 }
 
+bool CanGloveSource::reopen_socket() noexcept {
+  try {
+    const int fresh = open_can_socket(config_.interface, config_.fd, true);
+    ::close(socket_);
+    socket_ = fresh;
+    return true;
+  } catch (...) {  // not there yet (or no memory for the message): try again later
+    return false;
+  }
+}
+
 void CanGloveSource::run() noexcept {
   pollfd fds[2] = {{socket_, POLLIN, 0}, {wake_, POLLIN, 0}};
   canfd_frame raw{};
@@ -148,13 +159,21 @@ void CanGloveSource::run() noexcept {
     if (fds[0].revents == 0) continue;
     const ssize_t n = ::read(socket_, &raw, sizeof raw);
     if (n < 0) {
-      if (errno == EINTR || errno == EAGAIN) continue;
-      // ENETDOWN and the like: the interface went away; the socket stays bound and reads
-      // again when it comes back.
+      const int e = errno;
+      if (e == EINTR || e == EAGAIN) continue;
+      // ENETDOWN: the interface went down; the socket stays bound and reads again when it
+      // comes back up. ENODEV: the interface is gone (a USB adapter unplugged); the kernel
+      // unbinds the socket for good, so it is opened again until an interface of that name
+      // is back.
       if (state_.exchange(SourceState::kDisconnected, std::memory_order_acq_rel) == SourceState::kConnected)
         counters_.disconnects.fetch_add(1, std::memory_order_relaxed);
       pollfd wake = {wake_, POLLIN, 0};
-      ::poll(&wake, 1, 200);  // do not spin on a dead interface
+      if (e != ENODEV) {
+        ::poll(&wake, 1, 200);  // do not spin on a dead interface
+        continue;
+      }
+      while (!stop_requested_.load(std::memory_order_acquire) && !reopen_socket()) ::poll(&wake, 1, 200);
+      fds[0].fd = socket_;
       continue;
     }
     if (state_.load(std::memory_order_relaxed) == SourceState::kDisconnected) {

@@ -17,8 +17,9 @@ namespace sculpt::hal {
 /// Reads glove samples from a SocketCAN raw socket bound to one interface. An I/O thread
 /// poll()s the socket, reassembles each hand's segments (CanSampleDecoder) and queues
 /// complete samples; CAN error frames are received and counted (error_frames; a bus-off
-/// also bumps bus_off). If the interface goes down the state becomes kDisconnected
-/// (disconnects++) and comes back to kConnected with the next frame (reconnects++).
+/// also bumps bus_off). If the interface goes down, or goes away (a USB adapter unplugged),
+/// the state becomes kDisconnected (disconnects++) and comes back to kConnected with the next
+/// frame (reconnects++); an interface that went away is looked for again every 200 ms.
 class CanGloveSource final : public GloveSource {
  public:
   /// @throw std::invalid_argument when the interface name is empty or too long, or the ids
@@ -41,6 +42,8 @@ class CanGloveSource final : public GloveSource {
  private:
   void run() noexcept;
   void on_frame(const CanFrame& frame) noexcept;
+  /// Opens and binds a new socket in place of the current one; false if it cannot yet.
+  bool reopen_socket() noexcept;
 
   CanConfig config_;
   base::SpscQueue<GloveSample> queue_;

@@ -18,6 +18,7 @@ namespace sculpt::hal {
 namespace {
 
 constexpr long kWakeNs = 1'000'000;
+constexpr std::int64_t kReopenIntervalNs = 200'000'000;  // how often a vanished interface is looked for
 
 CanConfig checked(const CanConfig& config) {
   if (config.interface.empty()) throw std::invalid_argument("haptic.can.interface: empty");
@@ -71,13 +72,18 @@ bool CanHapticSink::write_command(const HapticCommand& command) noexcept {
       w = ::write(socket_, &raw, mtu);
     } while (w < 0 && errno == EINTR);
     // A half-sent command is broken on the wire; the receiver's decoder counts it.
-    if (w != static_cast<ssize_t>(mtu)) return false;
+    if (w != static_cast<ssize_t>(mtu)) {
+      // The interface went away (ENODEV once, then ENXIO: the kernel unbound the socket).
+      if (w < 0 && (errno == ENODEV || errno == ENXIO)) interface_gone_ = true;
+      return false;
+    }
   }
   return n > 0;
 }
 
 void CanHapticSink::run() noexcept {
   std::int64_t next = base::monotonic_now_ns();
+  std::int64_t next_reopen = next;
   std::array<HapticCommand, kHands> newest{};
   std::array<bool, kHands> have{};
   while (!stop_requested_.load(std::memory_order_acquire)) {
@@ -88,6 +94,16 @@ void CanHapticSink::run() noexcept {
       if (have[c.hand]) superseded_.fetch_add(1, std::memory_order_relaxed);
       newest[c.hand] = c;
       have[c.hand] = true;
+    }
+    if (interface_gone_ && next >= next_reopen) {
+      next_reopen = next + kReopenIntervalNs;
+      try {
+        const int fresh = open_can_socket(config_.interface, config_.fd, false);
+        ::close(socket_);
+        socket_ = fresh;
+        interface_gone_ = false;
+      } catch (...) {  // not back yet: the commands meanwhile are dropped
+      }
     }
     for (std::size_t h = 0; h < kHands; ++h) {
       if (!have[h]) continue;

@@ -17,7 +17,9 @@ namespace sculpt::hal {
 /// thread wakes every millisecond, takes what is queued, keeps the newest command per hand
 /// (an older force is worthless once a newer one exists, and a classic bus cannot carry ten
 /// frames per hand per millisecond) and writes it. Commands superseded that way count as
-/// superseded; those refused by a full queue or not written by the kernel as dropped.
+/// superseded; those refused by a full queue or not written by the kernel as dropped. If the
+/// interface goes away (a USB adapter unplugged) the socket is opened again every 200 ms
+/// until an interface of that name is back.
 class CanHapticSink final : public HapticSink {
  public:
   /// @throw std::invalid_argument as CanGloveSource's constructor.
@@ -48,6 +50,7 @@ class CanHapticSink final : public HapticSink {
   std::atomic<std::uint64_t> sent_{0};
   std::atomic<bool> stop_requested_{false};
   int socket_ = -1;
+  bool interface_gone_ = false;  // I/O thread only
   std::thread thread_;
 };
 

@@ -13,7 +13,8 @@ namespace sculpt::hal {
 namespace {
 
 constexpr std::int64_t kReopenIntervalNs = 200'000'000;
-constexpr int kEventTimeoutUs = 50'000;  // how long stop() may wait for the event thread to notice
+constexpr unsigned kReopensPerRescan = 5;  // a fresh context (a new bus scan) once a second
+constexpr int kEventTimeoutUs = 50'000;    // how long stop() may wait for the event thread to notice
 
 std::string ids(const UsbConfig& c) {
   char text[16];
@@ -148,15 +149,43 @@ void UsbGloveSource::start() {
     throw std::runtime_error("usb: " + ids(config_) + ": cannot " + why + " (" + libusb_strerror(rc) +
                              (rc == LIBUSB_ERROR_ACCESS ? "; check the udev rules" : "") + ")");
   }
-  if (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG)) {
-    if (libusb_hotplug_register_callback(context_, LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED, LIBUSB_HOTPLUG_NO_FLAGS,
-                                         config_.vendor_id, config_.product_id, LIBUSB_HOTPLUG_MATCH_ANY, &on_hotplug,
-                                         this, &hotplug_handle_) == 0)
-      hotplug_registered_ = true;
-  }
+  register_hotplug();
   stop_requested_.store(false, std::memory_order_relaxed);
   state_.store(SourceState::kConnected, std::memory_order_release);
   thread_ = std::thread([this] { run(); });
+}
+
+void UsbGloveSource::register_hotplug() noexcept {
+  if (!libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG)) return;
+  hotplug_registered_ = libusb_hotplug_register_callback(
+                            context_, LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED, LIBUSB_HOTPLUG_NO_FLAGS, config_.vendor_id,
+                            config_.product_id, LIBUSB_HOTPLUG_MATCH_ANY, &on_hotplug, this, &hotplug_handle_) == 0;
+}
+
+void UsbGloveSource::refresh_context() noexcept {
+  // A submitted transfer keeps a reference to its device until it is freed or submitted
+  // again (libusb 1.0.26), so the old context's transfers go with it: released after the old
+  // context is gone, that reference would be released into freed memory.
+  std::array<libusb_transfer*, kTransfers> fresh_transfers{};
+  for (auto& t : fresh_transfers) {
+    t = libusb_alloc_transfer(0);
+    if (t == nullptr) {
+      for (auto* f : fresh_transfers) libusb_free_transfer(f);  // null is a no-op
+      return;                                                   // keep the old context; try again at the next rescan
+    }
+  }
+  libusb_context* fresh = nullptr;
+  if (libusb_init(&fresh) != 0) {
+    for (auto* f : fresh_transfers) libusb_free_transfer(f);
+    return;
+  }
+  if (hotplug_registered_) libusb_hotplug_deregister_callback(context_, hotplug_handle_);
+  hotplug_registered_ = false;
+  for (auto* t : transfers_) libusb_free_transfer(t);
+  transfers_ = fresh_transfers;
+  libusb_exit(context_);
+  context_ = fresh;
+  register_hotplug();
 }
 
 void UsbGloveSource::stop() {
@@ -250,13 +279,16 @@ void UsbGloveSource::run() noexcept {
     if (!arrived_.exchange(false) && now < next_attempt) continue;
     next_attempt = now + kReopenIntervalNs;
     const char* why = "";
-    if (open_device(why) == 0) {
-      // A reopened device restarts its counters; do not count that jump as lost samples.
-      sequences_.reset();
-      reported_gaps_ = 0;
-      counters_.reconnects.fetch_add(1, std::memory_order_relaxed);
-      state_.store(SourceState::kConnected, std::memory_order_release);
+    if (open_device(why) != 0) {
+      if (++failed_reopens_ % kReopensPerRescan == 0 && !any_in_flight()) refresh_context();
+      continue;
     }
+    failed_reopens_ = 0;
+    // A reopened device restarts its counters; do not count that jump as lost samples.
+    sequences_.reset();
+    reported_gaps_ = 0;
+    counters_.reconnects.fetch_add(1, std::memory_order_relaxed);
+    state_.store(SourceState::kConnected, std::memory_order_release);
   }
   for (std::size_t i = 0; i < kTransfers; ++i)
     if (in_flight_[i]) libusb_cancel_transfer(transfers_[i]);

@@ -29,6 +29,9 @@ namespace sculpt::hal {
 /// LIBUSB_ERROR_NO_DEVICE) makes the state kDisconnected and counts a disconnect; the event
 /// thread then tries to reopen the device every 200 ms, at once when libusb reports its
 /// arrival (hotplug, where the platform has it), and counts a reconnect when it succeeds.
+/// On Linux libusb learns of arrivals only from udev's events, so where no udev daemon runs
+/// (containers, an initramfs) its device list would never show the device again: every
+/// fifth failed attempt therefore starts a fresh libusb context, which scans the bus anew.
 class UsbGloveSource final : public GloveSource {
  public:
   /// @throw std::invalid_argument when interface_number is negative or endpoint is not IN.
@@ -64,6 +67,9 @@ class UsbGloveSource final : public GloveSource {
   void on_transfer(libusb_transfer* transfer) noexcept;
   void on_bytes(const std::uint8_t* data, std::size_t size) noexcept;
   void lost_device() noexcept;
+  /// Replaces the libusb context by a new one (no device open, no transfer in flight).
+  void refresh_context() noexcept;
+  void register_hotplug() noexcept;
   static void transfer_callback(libusb_transfer* transfer);
 
   UsbConfig config_;
@@ -73,6 +79,7 @@ class UsbGloveSource final : public GloveSource {
   std::atomic<bool> stop_requested_{false};
   std::atomic<bool> arrived_{false};  // set by the hotplug callback
   bool device_lost_ = false;          // event thread only, like everything below
+  unsigned failed_reopens_ = 0;
   libusb_context* context_ = nullptr;
   libusb_device_handle* handle_ = nullptr;
   int hotplug_handle_ = 0;
