@@ -24,7 +24,7 @@ PACKAGES=(
   clang-format clang-tidy
   openjdk-17-jdk-headless liblcm-java libjchart2d-java python3-matplotlib
   gnuplot-nox
-  qemu-system-x86 busybox-static
+  qemu-system-x86 busybox-static iproute2 xz-utils
   python3
 )
 

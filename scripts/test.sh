@@ -8,10 +8,17 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 bash scripts/setup.sh
 jobs="$(nproc)"
+# Each pass says how long it took, so that the command's 50-minute budget can be watched.
+phase_start=$SECONDS
+phase_done() {
+  echo "test: $1 passed in $(((SECONDS - phase_start) / 60)) min $(((SECONDS - phase_start) % 60)) s"
+  phase_start=$SECONDS
+}
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-Werror >/dev/null
 cmake --build build -j"$jobs"
 (cd build && ctest --output-on-failure -j"$jobs")
+phase_done "Release build and tests"
 
 # The minimal configuration: no LCM, USB or CAN. It must build clean, refuse what needs a
 # left-out part with a clear message, and pass every test that does not need one (those skip
@@ -20,6 +27,7 @@ cmake -S . -B build-minimal -G Ninja -DCMAKE_BUILD_TYPE=Release -DSCULPT_WITH_LC
   -DSCULPT_WITH_CAN=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS=-Werror >/dev/null
 cmake --build build-minimal -j"$jobs"
 (cd build-minimal && ctest --output-on-failure -j"$jobs")
+phase_done "minimal configuration"
 
 # The house style (.clang-format) and naming (.clang-tidy), over every source file.
 git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run --Werror
@@ -28,11 +36,13 @@ git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run --Werror
 run-clang-tidy -p build -quiet -j "$jobs" -extra-arg=-Wno-unknown-pragmas -extra-arg=-Wno-unknown-warning-option \
   "^$root/(base|deform|hal|logging|lcmtypes|rt|render|tools|tests)/" >/tmp/sculpt-tidy.log 2>&1 ||
   { grep -E "(error|warning):" /tmp/sculpt-tidy.log; echo "test: clang-tidy found names off the house style"; exit 1; }
+phase_done "format and naming checks"
 
 cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSCULPT_SANITIZE=ON \
   -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="-O1 -Werror" >/dev/null
 cmake --build build-sanitize -j"$jobs"
 (cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j"$jobs")
+phase_done "AddressSanitizer + UndefinedBehaviorSanitizer"
 
 # ThreadSanitizer over the whole suite (the station, HIL and log tests are what it is for):
 # reports fail the test. The suppressions cover only uninstrumented third-party libraries (LCM, GLib, Mesa),
@@ -42,3 +52,5 @@ cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSCULPT_SANITIZE_THR
 cmake --build build-tsan -j"$jobs"
 (cd build-tsan && TSAN_OPTIONS="suppressions=$root/tests/tsan_suppressions.txt second_deadlock_stack=1" \
   ctest --output-on-failure -j"$jobs")
+phase_done "ThreadSanitizer"
+echo "test: everything passed in $((SECONDS / 60)) min $((SECONDS % 60)) s"
