@@ -1,0 +1,55 @@
+#include "approximations.hpp"
+
+#include <cstdio>
+
+namespace sculpt::tools::report {
+namespace {
+
+std::string spacings(const char* what, double k) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%s %g sp", what, k);
+  return text;
+}
+
+}  // namespace
+
+std::vector<Approximation> approximations(const deform::DeformSettings& session, double spacing, bool has_normals) {
+  deform::DeformSettings base = session;
+  base.region = deform::RegionSettings{};
+  base.region.border_weight = session.region.border_weight;
+  base.field.precision = deform::Precision::kFloat;
+  base.field.carry_normals = true;
+  base.traction = false;  // haptics does not move the model; its time is not the frame's
+  std::vector<Approximation> rows;
+  rows.push_back({"float", "precision", base});
+  Approximation dbl{"double loop", "precision", base};
+  dbl.settings.field.precision = deform::Precision::kDouble;
+  rows.push_back(dbl);
+  for (double k : kRegionSpacings) {
+    Approximation r{spacings("region", k), "region", base};
+    r.settings.region.kind = deform::RegionSettings::Kind::kRadius;
+    r.settings.region.radius = k * spacing;
+    rows.push_back(r);
+  }
+  if (session.kernel.kind == deform::KernelKind::kKelvin) {
+    for (double k : {1.0, 2.0}) {
+      Approximation r{spacings("regularized eps", k), "kernel", base};
+      r.settings.kernel.kind = deform::KernelKind::kRegularized;
+      r.settings.kernel.regularization = k * spacing;
+      rows.push_back(r);
+    }
+  } else {
+    Approximation r{"kelvin", "kernel", base};
+    r.settings.kernel.kind = deform::KernelKind::kKelvin;
+    r.settings.kernel.regularization = 0.0;
+    rows.push_back(r);
+  }
+  if (has_normals) {
+    Approximation r{"normals off", "normals", base};
+    r.settings.field.carry_normals = false;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+}  // namespace sculpt::tools::report

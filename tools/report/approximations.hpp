@@ -1,0 +1,28 @@
+#pragma once
+// The approximations a session could run with, each as the deformer settings that select it.
+// Every one is measured against the same exact computation.
+
+#include <string>
+#include <vector>
+
+#include "sculpt/deform/deformer.hpp"
+
+namespace sculpt::tools::report {
+
+struct Approximation {
+  std::string name;
+  std::string group;
+  deform::DeformSettings settings;
+};
+
+/// The per-frame rows, from the session's settings: float against double (the float row is the
+/// session's kernel, global region, normals carried: every other row differs from it in one
+/// setting); the region at 5, 10, 20 and 40 spacings; the regularized kernel at 1 and 2
+/// spacings (Kelvin instead when the session is regularized); the normal update off (when the
+/// model has normals).
+std::vector<Approximation> approximations(const deform::DeformSettings& session, double spacing, bool has_normals);
+
+/// The region radii of the region rows, in spacings.
+inline constexpr double kRegionSpacings[] = {5.0, 10.0, 20.0, 40.0};
+
+}  // namespace sculpt::tools::report

@@ -1,0 +1,34 @@
+#pragma once
+// A scene's simulated session, recorded in virtual time: the scene's scripted glove through the
+// whole station (filter, dead band, registration, deformer), so that the steps the report
+// measures are the ones `sculpt run` would have taken, on any machine, at any speed.
+
+#include <cstdint>
+#include <vector>
+
+#include "sculpt/deform/deformer.hpp"
+#include "sculpt/logging/records.hpp"
+#include "sculpt/rt/scene.hpp"
+
+namespace sculpt::tools::report {
+
+struct RecordedSession {
+  /// The probes of every step that applied a frame, in order: what the exact session replays.
+  std::vector<std::vector<deform::ProbeMotion>> steps;
+  /// Every applied frame as the log records it: what a reduced session transfers.
+  std::vector<logging::CollisionRecord> records;
+  /// The deformer's time of each step that collided, ns (the station measures it).
+  std::vector<double> frame_ns;
+  deform::GuardCounts guards;       ///< every guard the station's deformer applied, summed
+  deform::PointModel initial;       ///< the model as loaded (reduced when the scene asks)
+  deform::PointModel final_model;   ///< as the session left it
+  deform::DeformSettings settings;  ///< the deformer's settings at the start
+  double spacing = 0.0;             ///< the model's typical spacing, model units
+};
+
+/// Runs `scene` (its glove must be the sim backend) to the end of its script and returns what
+/// it did. `max_steps` > 0 stops after that many recorded steps. Throws std::invalid_argument
+/// for another glove backend, and whatever the station's set-up throws.
+RecordedSession record_session(const rt::Scene& scene, std::size_t max_steps = 0);
+
+}  // namespace sculpt::tools::report
