@@ -13,7 +13,8 @@ std::string spacings(const char* what, double k) {
 
 }  // namespace
 
-std::vector<Approximation> approximations(const deform::DeformSettings& session, double spacing, bool has_normals) {
+std::vector<Approximation> approximations(const deform::DeformSettings& session, double spacing, bool has_normals,
+                                          double auto_radius) {
   deform::DeformSettings base = session;
   base.region = deform::RegionSettings{};
   base.region.border_weight = session.region.border_weight;
@@ -21,31 +22,37 @@ std::vector<Approximation> approximations(const deform::DeformSettings& session,
   base.field.carry_normals = true;
   base.traction = false;  // haptics does not move the model; its time is not the frame's
   std::vector<Approximation> rows;
-  rows.push_back({"float", "precision", base});
-  Approximation dbl{"double loop", "precision", base};
+  rows.push_back({"float", "precision", base, false});
+  Approximation dbl{"double loop", "precision", base, false};
   dbl.settings.field.precision = deform::Precision::kDouble;
   rows.push_back(dbl);
   for (double k : kRegionSpacings) {
-    Approximation r{spacings("region", k), "region", base};
+    Approximation r{spacings("region", k), "region", base, false};
     r.settings.region.kind = deform::RegionSettings::Kind::kRadius;
     r.settings.region.radius = k * spacing;
     rows.push_back(r);
   }
+  if (auto_radius > 0.0) {
+    Approximation r{"region auto", "region", base, true};
+    r.settings.region.kind = deform::RegionSettings::Kind::kRadius;
+    r.settings.region.radius = auto_radius;
+    rows.push_back(r);
+  }
   if (session.kernel.kind == deform::KernelKind::kKelvin) {
     for (double k : {1.0, 2.0}) {
-      Approximation r{spacings("regularized eps", k), "kernel", base};
+      Approximation r{spacings("regularized eps", k), "kernel", base, false};
       r.settings.kernel.kind = deform::KernelKind::kRegularized;
       r.settings.kernel.regularization = k * spacing;
       rows.push_back(r);
     }
   } else {
-    Approximation r{"kelvin", "kernel", base};
+    Approximation r{"kelvin", "kernel", base, false};
     r.settings.kernel.kind = deform::KernelKind::kKelvin;
     r.settings.kernel.regularization = 0.0;
     rows.push_back(r);
   }
   if (has_normals) {
-    Approximation r{"normals off", "normals", base};
+    Approximation r{"normals off", "normals", base, false};
     r.settings.field.carry_normals = false;
     rows.push_back(r);
   }

@@ -39,7 +39,10 @@ std::vector<Row> per_frame_rows(const RecordedSession& session, ExactState& exac
   const double diagonal = session.initial.bounding_box_diagonal();
   const ExactFrame exact(session.initial, session.settings);
   std::vector<Runner> runners;
-  for (Approximation& a : approximations(session.settings, session.spacing, session.initial.has_normals())) {
+  double auto_radius = 0.0;
+  for (double r : session.step_radius) auto_radius = auto_radius > 0.0 ? auto_radius : r;
+  for (Approximation& a :
+       approximations(session.settings, session.spacing, session.initial.has_normals(), auto_radius)) {
     Runner r;
     r.row.name = a.name;
     r.row.group = a.group;
@@ -71,6 +74,9 @@ std::vector<Row> per_frame_rows(const RecordedSession& session, ExactState& exac
       // A fresh index on the exact state is exact by construction; only the frame is timed.
       const auto t1 = std::chrono::steady_clock::now();
       r.deformer->rebuild_index();
+      if (r.approximation.recorded_radius && session.step_radius[k] > 0.0) {
+        r.deformer->set_region_radius(session.step_radius[k]);
+      }
       const double rebuild = elapsed_ns(t1);
       const auto t2 = std::chrono::steady_clock::now();
       const deform::FrameReport& f = r.deformer->deform(probes);

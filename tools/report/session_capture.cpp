@@ -24,7 +24,11 @@ class CaptureRecorder final : public rt::StationRecorder {
   void tick(const rt::TickReport&, std::uint64_t, std::uint64_t, double) noexcept override {}
   void frame(const rt::FrameRecord& f) noexcept override {
     // A split step reports each of its frames with the step's probes: the step is taken once.
-    if (!seen_ || f.tick != last_tick_) out_.steps.emplace_back(f.probes.begin(), f.probes.end());
+    if (!seen_ || f.tick != last_tick_) {
+      out_.steps.emplace_back(f.probes.begin(), f.probes.end());
+      const bool radius = f.settings->region.kind == deform::RegionSettings::Kind::kRadius;
+      out_.step_radius.push_back(radius ? f.settings->region.radius : 0.0);
+    }
     seen_ = true;
     last_tick_ = f.tick;
     rt::append_frame_records(*f.report, *f.settings, f.frame_id, static_cast<std::int64_t>(f.tick), out_.records);

@@ -15,6 +15,9 @@ namespace sculpt::tools::report {
 struct RecordedSession {
   /// The probes of every step that applied a frame, in order: what the exact session replays.
   std::vector<std::vector<deform::ProbeMotion>> steps;
+  /// Per step, the region radius the session's deformer had in force (0 for a global region):
+  /// with heuristic.region = "auto", what the tick's budget allowed on this machine.
+  std::vector<double> step_radius;
   /// Every applied frame as the log records it: what a reduced session transfers.
   std::vector<logging::CollisionRecord> records;
   /// The deformer's time of each step that collided, ns (the station measures it).
