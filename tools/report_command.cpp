@@ -80,9 +80,10 @@ class ReportCommand final : public Command {
     for (report::Row& r : report::session_rows(scene, session, exact_end, ratios, progress)) rows.push_back(r);
     report::mark_pareto_front(rows);
 
-    const report::ReportContext context{session_path_, scene.model.path, session.initial.size(), session.steps.size()};
+    const report::ReportContext context{session_path_, std::filesystem::path(scene.model.path).filename().string(),
+                                        session.initial.size(), session.steps.size()};
     report::write_csv(out_dir_ + "/report.csv", rows);
-    const std::string plot_note = report::plot_pareto(out_dir_, context);
+    const std::string plot_note = report::plot_pareto(out_dir_, rows, context);
     if (!plot_note.empty()) std::fprintf(stderr, "sculpt report: no pareto.png: %s\n", plot_note.c_str());
     report::write_markdown(out_dir_ + "/report.md", rows, context, plot_note);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

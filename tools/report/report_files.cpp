@@ -1,5 +1,6 @@
 #include "report_files.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -74,8 +75,10 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
   for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k];
   out << "\n";
   for (const Row& r : rows) {
-    out << r.name << "," << r.group << "," << kind_name(r.kind) << "," << r.frames << "," << g(r.median_ms, "%.6g")
-        << "," << g(r.p99_ms, "%.6g") << "," << g(r.mean_error, "%.6g") << "," << g(r.max_error, "%.6g") << ","
+    // The front's two axes round-trip exactly (%.17g), so a reader recomputing the front from the
+    // CSV compares the numbers the report compared.
+    out << r.name << "," << r.group << "," << kind_name(r.kind) << "," << r.frames << "," << g(r.median_ms, "%.17g")
+        << "," << g(r.p99_ms, "%.6g") << "," << g(r.mean_error, "%.17g") << "," << g(r.max_error, "%.6g") << ","
         << g(r.max_normal_error_deg, "%.6g") << "," << g(r.max_displacement, "%.6g") << "," << r.probe_inside;
     deform::for_each_guard(r.guards, [&](const char*, std::uint32_t v) { out << "," << v; });
     out << "," << (plotted(r) ? 1 : 0) << "," << (r.pareto ? 1 : 0) << "\n";
@@ -142,7 +145,7 @@ void write_markdown(const std::string& path, const std::vector<Row>& rows, const
   if (!out) throw std::runtime_error("cannot write " + path);
 }
 
-std::string plot_pareto(const std::string& dir, const ReportContext& context) {
+std::string plot_pareto(const std::string& dir, const std::vector<Row>& rows, const ReportContext& context) {
   if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
     return "gnuplot was not found (scripts/setup.sh installs gnuplot-nox); report.md and report.csv are written";
   }
@@ -152,7 +155,6 @@ std::string plot_pareto(const std::string& dir, const ReportContext& context) {
     const std::string x = std::to_string(column("median_ms"));
     const std::string y = field("mean_error");
     const std::string on = field("plotted");
-    const std::string front = field("pareto");
     out << "# Written by sculpt report: error against time from report.csv.\n"
         << "set terminal pngcairo size 1400,900 font ',10'\n"
         << "set output 'pareto.png'\n"
@@ -163,12 +165,26 @@ std::string plot_pareto(const std::string& dir, const ReportContext& context) {
         << "set title \"" << context.model << " (" << context.points << " points, " << context.steps
         << " steps)\" noenhanced\n"
         << "set key top right\n"
-        << "plot 'report.csv' every ::1 using " << x << ":(" << on << "==1 ? " << y
-        << " : 1/0) with points pt 7 ps 1.3 title 'rows', \\\n"
+        << "kind(k) = strcol(" << column("kind") << ") eq k\n"
+        << "plot 'report.csv' every ::1 using " << x << ":(" << on << "==1 && kind('per-frame') ? " << y
+        << " : 1/0) with points pt 7 ps 1.3 title 'per-frame rows (one frame from the exact state)', \\\n"
+        << "     '' every ::1 using " << x << ":(" << on << "==1 && kind('session') ? " << y
+        << " : 1/0) with points pt 5 ps 1.3 title 'session rows (a whole session, at its end)', \\\n"
         << "     '' every ::1 using " << x << ":(" << on << "==1 ? " << y
         << " : 1/0):1 with labels left offset 0.8,0.4 font ',8' noenhanced notitle, \\\n"
-        << "     '' every ::1 using " << x << ":(" << front << "==1 ? " << y
-        << " : 1/0) smooth unique with lines lw 2 title 'Pareto front'\n";
+        << "     'pareto_front.dat' using 1:2 with lines lw 2 title 'Pareto front'\n";
+  }
+  // The front as a line needs its rows in order of time; gnuplot's own sorting (smooth unique)
+  // drops the line at the rows the CSV filter leaves undefined.
+  std::vector<const Row*> front;
+  for (const Row& r : rows) {
+    if (r.pareto) front.push_back(&r);
+  }
+  std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return a->median_ms < b->median_ms; });
+  {
+    std::ofstream out = open(dir + "/pareto_front.dat");
+    out << "# median_ms,mean_error: the Pareto front of report.csv, by time\n";
+    for (const Row* r : front) out << g(r->median_ms, "%.17g") << "," << g(r->mean_error, "%.17g") << "\n";
   }
   const std::string command = "cd '" + dir + "' && gnuplot pareto.gp >gnuplot.log 2>&1";
   if (std::system(command.c_str()) != 0) return "gnuplot failed (see " + dir + "/gnuplot.log)";

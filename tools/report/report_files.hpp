@@ -24,8 +24,9 @@ void write_csv(const std::string& path, const std::vector<Row>& rows);
 void write_markdown(const std::string& path, const std::vector<Row>& rows, const ReportContext& context,
                     const std::string& plot_note);
 
-/// Writes `dir`/pareto.gp and runs gnuplot on `dir`/report.csv. Returns an empty string when
+/// Writes `dir`/pareto.gp and pareto_front.dat (the front of `rows`, by time) and runs gnuplot on
+/// `dir`/report.csv. Returns an empty string when
 /// pareto.png was written, otherwise why not (gnuplot missing, or it failed), for the user.
-std::string plot_pareto(const std::string& dir, const ReportContext& context);
+std::string plot_pareto(const std::string& dir, const std::vector<Row>& rows, const ReportContext& context);
 
 }  // namespace sculpt::tools::report
