@@ -9,14 +9,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 
 #include "commands.hpp"
 #include "guard_report.hpp"
 #include "json_report.hpp"
+#include "output_paths.hpp"
 #include "report/measure.hpp"
 #include "report/pareto.hpp"
 #include "report/report_files.hpp"
+#include "report/session_log.hpp"
 #include "sculpt/rt/scene.hpp"
 
 namespace sculpt::tools {
@@ -29,8 +32,10 @@ class ReportCommand final : public Command {
  public:
   explicit ReportCommand(CLI::App& app) {
     sub_ = app.add_subcommand("report", "Error against run time: every approximation against the exact computation");
-    sub_->add_option("session", session_path_,
-                     "Scene (TOML) whose simulated session is recorded and measured (--quick: the bundled sphere)");
+    sub_->add_option(
+        "session", session_path_,
+        "A session log written by sculpt run, or a scene (.toml) whose simulated session is recorded first "
+        "(--quick: the bundled sphere)");
     sub_->add_option("--model", model_path_, "Run the session on this model instead of the scene's");
     sub_->add_option("--out", out_dir_, "Directory for report.md, report.csv and pareto.png")->required();
     sub_->add_option("--json", json_path_, "Write the rows here as JSON ('-' for stdout)");
@@ -57,7 +62,12 @@ class ReportCommand final : public Command {
     if (session_path_.empty()) session_path_ = SCULPT_QUICK_SCENE;
     if (json_path_ == "-") reserve_stdout_for_json();
     const auto start = std::chrono::steady_clock::now();
-    rt::Scene scene = rt::load_scene(session_path_);
+    // A scene's session is recorded from its script; a log's is re-run from its own samples.
+    const bool is_scene = lower_extension(session_path_) == ".toml";
+    std::optional<report::LoggedSession> logged;
+    if (!is_scene) logged = report::read_logged_session(session_path_);
+    rt::Scene scene = is_scene ? rt::load_scene(session_path_) : logged->scene;
+    const std::vector<hal::GloveSample>* samples = logged ? &logged->samples : nullptr;
     if (!model_path_.empty()) scene.model.path = model_path_;
     scene.heuristic.reduced_ratio = 1.0;  // the exact session is on the whole model
     std::filesystem::create_directories(out_dir_);
@@ -72,12 +82,12 @@ class ReportCommand final : public Command {
       std::fflush(stderr);
     };
     std::fprintf(stderr, "recording %s on %s\n", session_path_.c_str(), scene.model.path.c_str());
-    const report::RecordedSession session = report::record_session(scene);
+    const report::RecordedSession session = report::record_session(scene, samples);
     if (session.steps.empty()) throw std::runtime_error(session_path_ + ": the session never touched the model");
     report::ExactState exact_end;
     std::vector<report::Row> rows = report::per_frame_rows(session, exact_end, progress);
     std::vector<double> ratios(std::begin(kReducedRatios), std::end(kReducedRatios));
-    for (report::Row& r : report::session_rows(scene, session, exact_end, ratios, progress)) rows.push_back(r);
+    for (report::Row& r : report::session_rows(scene, samples, session, exact_end, ratios, progress)) rows.push_back(r);
     report::mark_pareto_front(rows);
 
     const report::ReportContext context{session_path_, std::filesystem::path(scene.model.path).filename().string(),

@@ -8,7 +8,9 @@
 #    unit sphere of spacing 0.06: the whole model, diameter 2, and its band) it is that of float;
 #  - the Pareto front: the non-dominated rows, computed here from the CSV, are exactly the rows
 #    the report marks;
-#  - the files: report.md, report.csv, a PNG, and a session row per reduced ratio.
+#  - the files: report.md, report.csv, a PNG, and a session row per reduced ratio;
+#  - a log: the same session recorded by `sculpt run` (real time) and given as a log is re-run
+#    from its own glove samples, step for step the session the scene's script gives.
 # Usage: SCULPT=path/to/sculpt sculpt_report_test.sh   (ctest sets SCULPT)
 set -uo pipefail
 : "${SCULPT:?set SCULPT to the sculpt binary}"
@@ -21,10 +23,21 @@ status=$?
 seconds=$(( $(date +%s) - start ))
 cat "$work/table"
 [ "$status" -eq 0 ] || { echo "FAIL sculpt report --quick exited $status"; cat "$work/err"; exit 1; }
-python3 - "$work/out" "$seconds" <<'PY'
+# The quick scene with a durable log, run as a user would (3 s of real time), then reported.
+scene_dir="$(dirname "$0")/../../tools/report"
+sed "s|\.\./\.\./data/|$(cd "$scene_dir/../../data" && pwd)/|" "$scene_dir/quick-sphere.toml" >"$work/logged.toml"
+printf '\n[output]\nlog = "logged.lcmlog"\n' >>"$work/logged.toml"
+"$SCULPT" run "$work/logged.toml" --quiet --duration 3 >"$work/run.out" 2>&1 || { echo "FAIL sculpt run"; cat "$work/run.out"; exit 1; }
+"$SCULPT" report "$work/logged.lcmlog" --out "$work/from-log" --json "$work/from-log.json" >/dev/null 2>"$work/log.err" \
+  || { echo "FAIL sculpt report on the log"; cat "$work/log.err"; exit 1; }
+python3 - "$work/out" "$seconds" "$work/report.json" "$work/from-log.json" <<'PY'
 import csv, json, os, sys
 out, seconds = sys.argv[1], int(sys.argv[2])
 bad = []
+scripted, logged = json.load(open(sys.argv[3])), json.load(open(sys.argv[4]))
+print(f"steps: {scripted['steps']} from the script, {logged['steps']} from the log")
+if scripted["steps"] == 0 or logged["steps"] != scripted["steps"]:
+    bad.append(f"the log re-ran {logged['steps']} steps, the script {scripted['steps']}")
 rows = list(csv.DictReader(open(os.path.join(out, "report.csv"))))
 by = {r["name"]: r for r in rows}
 num = lambda r, k: float(r[k])

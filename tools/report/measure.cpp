@@ -114,7 +114,8 @@ std::vector<Row> per_frame_rows(const RecordedSession& session, ExactState& exac
   return rows;
 }
 
-std::vector<Row> session_rows(const rt::Scene& scene, const RecordedSession& full, const ExactState& exact_end,
+std::vector<Row> session_rows(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,
+                              const RecordedSession& full, const ExactState& exact_end,
                               const std::vector<double>& ratios, const Progress& progress) {
   const double diagonal = full.initial.bounding_box_diagonal();
   std::vector<Row> rows;
@@ -133,7 +134,7 @@ std::vector<Row> session_rows(const rt::Scene& scene, const RecordedSession& ful
   for (double ratio : ratios) {
     rt::Scene reduced = scene;
     reduced.heuristic.reduced_ratio = ratio;
-    const RecordedSession sub = record_session(reduced);
+    const RecordedSession sub = record_session(reduced, samples);
     deform::PointModel target = full.initial;
     rt::transfer(target, sub.records);
     char name[64];

@@ -23,8 +23,10 @@ std::vector<Row> per_frame_rows(const RecordedSession& session, ExactState& exac
 
 /// The reduced model set (thesis 4.4.1): the scene recorded on `ratios` of the full model and
 /// transferred to it (rt::transfer), compared with `exact_end` at the session's end; and the
-/// full session in float (`full`) the same way. Times are the recording's frame times.
-std::vector<Row> session_rows(const rt::Scene& scene, const RecordedSession& full, const ExactState& exact_end,
+/// full session in float (`full`) the same way. `samples` are the logged session's glove
+/// samples, or null for the scene's scripted ones. Times are the recording's frame times.
+std::vector<Row> session_rows(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,
+                              const RecordedSession& full, const ExactState& exact_end,
                               const std::vector<double>& ratios, const Progress& progress);
 
 }  // namespace sculpt::tools::report

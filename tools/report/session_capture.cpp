@@ -61,9 +61,9 @@ std::vector<hal::GloveSample> scripted_samples(const rt::Scene& scene) {
 
 }  // namespace
 
-RecordedSession record_session(const rt::Scene& scene, std::size_t max_steps) {
+RecordedSession record_session(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples) {
   RecordedSession out;
-  auto source = std::make_unique<rt::ReplayGloveSource>(scripted_samples(scene));
+  auto source = std::make_unique<rt::ReplayGloveSource>(samples ? *samples : scripted_samples(scene));
   rt::ReplayGloveSource* replay = source.get();
   rt::StationSetup setup = rt::prepare_station(scene);
   out.initial = setup.model;
@@ -79,7 +79,6 @@ RecordedSession record_session(const rt::Scene& scene, std::size_t max_steps) {
     replay->set_now(t);
     const rt::TickReport& r = station.tick(t, period);
     if (r.frame && r.collisions > 0) out.frame_ns.push_back(r.deform_ns);
-    if (max_steps > 0 && out.steps.size() >= max_steps) break;
   }
   out.guards = station.totals().guards;
   out.final_model = setup.model;

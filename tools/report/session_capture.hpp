@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sculpt/deform/deformer.hpp"
+#include "sculpt/hal/glove_sample.hpp"
 #include "sculpt/logging/records.hpp"
 #include "sculpt/rt/scene.hpp"
 
@@ -29,9 +30,10 @@ struct RecordedSession {
   double spacing = 0.0;             ///< the model's typical spacing, model units
 };
 
-/// Runs `scene` (its glove must be the sim backend) to the end of its script and returns what
-/// it did. `max_steps` > 0 stops after that many recorded steps. Throws std::invalid_argument
-/// for another glove backend, and whatever the station's set-up throws.
-RecordedSession record_session(const rt::Scene& scene, std::size_t max_steps = 0);
+/// Runs `scene` on `samples` (a logged session's), or when that is null on the samples of its
+/// simulated glove's script, to their end plus the glove's timeout, and returns what it did.
+/// Throws std::invalid_argument for a scene without samples of either kind, and whatever the
+/// station's set-up throws.
+RecordedSession record_session(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples = nullptr);
 
 }  // namespace sculpt::tools::report
