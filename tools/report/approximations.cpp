@@ -51,6 +51,16 @@ std::vector<Approximation> approximations(const deform::DeformSettings& session,
     r.settings.kernel.regularization = 0.0;
     rows.push_back(r);
   }
+  // The subsampling of boundary rows: each finger's patch thinned evenly to a cap (the deformer
+  // does so past contact.max_patch_points); rows only where the cap is below the session's.
+  for (std::size_t cap : {std::size_t{4}, std::size_t{2}}) {
+    if (cap >= session.contact.max_patch_points) continue;
+    char name[48];
+    std::snprintf(name, sizeof name, "patch cap %zu pts", cap);
+    Approximation r{name, "boundary rows", base, false};
+    r.settings.contact.max_patch_points = cap;
+    rows.push_back(r);
+  }
   if (has_normals) {
     Approximation r{"normals off", "normals", base, false};
     r.settings.field.carry_normals = false;

@@ -21,8 +21,8 @@ struct Approximation {
 /// session's kernel, global region, normals carried: every other row differs from it in one
 /// setting); the region at 5, 10, 20 and 40 spacings, and `auto` (the radii the session's budget
 /// chose, when `auto_radius` > 0: its first); the regularized kernel at 1 and 2
-/// spacings (Kelvin instead when the session is regularized); the normal update off (when the
-/// model has normals).
+/// spacings (Kelvin instead when the session is regularized); each finger's boundary rows
+/// thinned to 4 and 2 points (a fingertip patch holds a few points at the default eps); the normal update off (when the model has normals).
 std::vector<Approximation> approximations(const deform::DeformSettings& session, double spacing, bool has_normals,
                                           double auto_radius);
 
