@@ -130,6 +130,29 @@ std::vector<Row> session_rows(const rt::Scene& scene, const std::vector<hal::Glo
   judge(whole, full.final_model);
   whole.guards = full.guards;
   rows.push_back(whole);
+  // Whole sessions with the heuristics a per-frame row cannot judge over time: a region's
+  // pinned band and stale normals both change where later frames find the surface.
+  auto variant = [&](const std::string& name, rt::Scene changed) {
+    const RecordedSession run = record_session(changed, samples);
+    Row row = labelled(name, "session", RowKind::kSession);
+    set_times(row, run.frame_ns);
+    judge(row, run.final_model);
+    row.guards = run.guards;
+    rows.push_back(row);
+  };
+  for (double k : {10.0, 20.0}) {
+    rt::Scene regional = scene;
+    regional.heuristic.region = rt::RegionChoice::kRadius;
+    regional.heuristic.region_radius = k * full.spacing;
+    char name[48];
+    std::snprintf(name, sizeof name, "session region %g sp", k);
+    variant(name, regional);
+  }
+  if (full.initial.has_normals()) {
+    rt::Scene stale = scene;
+    stale.deform.carry_normals = false;
+    variant("session normals off", stale);
+  }
   std::size_t done = 0;
   for (double ratio : ratios) {
     rt::Scene reduced = scene;
