@@ -81,8 +81,9 @@ class ReportCommand final : public Command {
       if (done == total) std::fputc('\n', stderr);
       std::fflush(stderr);
     };
-    std::fprintf(stderr, "recording %s on %s\n", session_path_.c_str(), scene.model.path.c_str());
     const report::RecordedSession session = report::record_session(scene, samples);
+    std::fprintf(stderr, "recorded %s on %s: %zu steps\n", session_path_.c_str(), scene.model.path.c_str(),
+                 session.steps.size());
     if (session.steps.empty()) throw std::runtime_error(session_path_ + ": the session never touched the model");
     report::ExactState exact_end;
     std::vector<report::Row> rows = report::per_frame_rows(session, exact_end, progress);

@@ -23,6 +23,29 @@ status=$?
 seconds=$(( $(date +%s) - start ))
 cat "$work/table"
 [ "$status" -eq 0 ] || { echo "FAIL sculpt report --quick exited $status"; cat "$work/err"; exit 1; }
+# Refusals: one line on stderr and exit 2 for a missing session, a scene whose glove is not
+# simulated (nothing to record), and no --out.
+refuse() {
+  local want="$1"; shift
+  "$SCULPT" report "$@" >"$work/refused.out" 2>"$work/refused.err"
+  local got=$?
+  if [ "$got" -ne 2 ] || [ "$(wc -l <"$work/refused.err")" -ne 1 ] || ! grep -q -- "$want" "$work/refused.err"; then
+    echo "FAIL sculpt report $*: exit $got (want 2), stderr:"; cat "$work/refused.err"; exit 1
+  fi
+}
+refuse "give a scene" --out "$work/x"
+cat >"$work/serial.toml" <<SCENE
+[model]
+path = "$(cd "$(dirname "$0")/../../data" && pwd)/sphere_3203.ply"
+[glove]
+backend = "serial"
+fingers = ["index"]
+[glove.serial]
+device = "/dev/null"
+SCENE
+refuse "simulated glove" "$work/serial.toml" --out "$work/x"
+refuse "out" --quick
+
 # The quick scene with a durable log, run as a user would (4 s of real time: the 2.2 s script, the set-up and a margin), then reported.
 scene_dir="$(dirname "$0")/../../tools/report"
 sed "s|\.\./\.\./data/|$(cd "$scene_dir/../../data" && pwd)/|" "$scene_dir/quick-sphere.toml" >"$work/logged.toml"

@@ -45,7 +45,7 @@ std::vector<hal::GloveSample> scripted_samples(const rt::Scene& scene) {
   if (scene.glove.config.backend != hal::Backend::kSim) {
     throw std::invalid_argument(scene.file +
                                 ": sculpt report records a scene's session from its simulated glove "
-                                "(glove.backend = \"sim\")");
+                                "(glove.backend = \"sim\"); for another glove, give the log of its session");
   }
   hal::SimScript script(scene.glove.config.sim);
   if (!(script.end_time_s() < 1e6)) throw std::invalid_argument(scene.file + ": the glove script never ends");
