@@ -54,7 +54,10 @@ std::uint32_t ExactFrame::nearest(const ExactState& s, const Vec3& q) const {
   double best_d2 = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < s.size(); ++i) {
     const double d2 = squared_norm(s.position[i] - q);
-    if (d2 < best_d2) best_d2 = d2, best = static_cast<std::uint32_t>(i);
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = static_cast<std::uint32_t>(i);
+    }
   }
   return best;
 }
@@ -125,6 +128,7 @@ ExactFrame::Outcome ExactFrame::attempt(ExactState& state, std::span<const defor
   std::vector<deform::DisplacementCondition> rows;
   std::vector<double> distance(probes.size(), std::numeric_limits<double>::infinity());
   std::vector<std::uint32_t> near(probes.size(), deform::PointIndex::kNoPoint);
+  std::vector<bool> outside(probes.size(), false);  // not across the surface: may pin it (Δr)
   auto in_range = [&](const Vec3& p) { return is_finite(p) && norm(p - centre_) <= probe_range_; };
   for (std::size_t p = 0; p < probes.size(); ++p) {
     const deform::ProbeMotion& m = probes[p];
@@ -135,7 +139,10 @@ ExactFrame::Outcome ExactFrame::attempt(ExactState& state, std::span<const defor
     const std::uint32_t at = nearest(state, m.current);
     near[p] = at;
     distance[p] = norm(m.current - state.position[at]);
-    if (!deform::crossed(cs.mode, side(state, at, m.current))) continue;
+    if (!deform::crossed(cs.mode, side(state, at, m.current))) {
+      outside[p] = true;
+      continue;
+    }
     // A previous position less than Δd across still rests on the surface; one clearly across
     // started inside and pushes nothing.
     const double tolerance = cs.mode == deform::ContactMode::kPush ? cs.min_source_distance : -cs.min_source_distance;
@@ -157,7 +164,8 @@ ExactFrame::Outcome ExactFrame::attempt(ExactState& state, std::span<const defor
   if (a.collisions == 0) return Outcome::kNothing;
   // Δr: a free finger close to the surface pins its patch while another one presses.
   for (std::size_t p = 0; p < probes.size(); ++p) {
-    if (a.contacts[p].pressing || near[p] == deform::PointIndex::kNoPoint) continue;
+    // Only a finger outside pins: one that started inside is ignored, as the deformer ignores it.
+    if (!outside[p]) continue;
     if (distance[p] < cs.guard_distance) patch(state, state.position[near[p]], Vec3{}, false, rows, a.guards);
   }
   const deform::WeightSolver solver(settings_.solver);

@@ -82,6 +82,7 @@ std::vector<Row> per_frame_rows(const RecordedSession& session, ExactState& exac
       const deform::FrameReport& f = r.deformer->deform(probes);
       const double frame = elapsed_ns(t2);
       r.ns.push_back(frame);
+      // The float row (the first) also times the index rebuilt every frame: the time-only row.
       if (&r == &runners.front()) fresh_ns.push_back(rebuild + frame);
       r.row.guards += f.guards;
       for (std::size_t p = 0; p < probes.size() && p < f.contacts.size(); ++p) {
