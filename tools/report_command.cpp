@@ -81,14 +81,15 @@ class ReportCommand final : public Command {
       if (done == total) std::fputc('\n', stderr);
       std::fflush(stderr);
     };
-    const report::RecordedSession session = report::record_session(scene, samples);
+    const report::RecordedSession as_run = report::record_session(scene, samples);
+    const report::RecordedSession session = report::record_trajectory(scene, samples, as_run);
     std::fprintf(stderr, "recorded %s on %s: %zu steps\n", session_path_.c_str(), scene.model.path.c_str(),
                  session.steps.size());
     if (session.steps.empty()) throw std::runtime_error(session_path_ + ": the session never touched the model");
     report::ExactState exact_end;
     std::vector<report::Row> rows = report::per_frame_rows(session, exact_end, progress);
     std::vector<double> ratios(std::begin(kReducedRatios), std::end(kReducedRatios));
-    for (report::Row& r : report::session_rows(scene, samples, session, exact_end, ratios, progress)) rows.push_back(r);
+    for (report::Row& r : report::session_rows(scene, samples, as_run, exact_end, ratios, progress)) rows.push_back(r);
     report::mark_pareto_front(rows);
 
     const report::ReportContext context{session_path_, std::filesystem::path(scene.model.path).filename().string(),

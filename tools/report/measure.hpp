@@ -23,7 +23,7 @@ std::vector<Row> per_frame_rows(const RecordedSession& session, ExactState& exac
 
 /// The reduced model set (thesis 4.4.1): the scene recorded on `ratios` of the full model and
 /// transferred to it (rt::transfer), compared with `exact_end` at the session's end; and the
-/// full session in float (`full`), and the whole session with a region of 10 and 20 spacings and
+/// full session in float as its scene asks (`full`), and the whole session with a region of 10 and 20 spacings and
 /// with the normals left as they were, the same way. `samples` are the logged session's glove
 /// samples, or null for the scene's scripted ones. Times are the recording's frame times.
 std::vector<Row> session_rows(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,

@@ -28,6 +28,7 @@ class CaptureRecorder final : public rt::StationRecorder {
       out_.steps.emplace_back(f.probes.begin(), f.probes.end());
       const bool radius = f.settings->region.kind == deform::RegionSettings::Kind::kRadius;
       out_.step_radius.push_back(radius ? f.settings->region.radius : 0.0);
+      out_.step_tick.push_back(f.tick);
     }
     seen_ = true;
     last_tick_ = f.tick;
@@ -82,6 +83,21 @@ RecordedSession record_session(const rt::Scene& scene, const std::vector<hal::Gl
   }
   out.guards = station.totals().guards;
   out.final_model = setup.model;
+  return out;
+}
+
+RecordedSession record_trajectory(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,
+                                  const RecordedSession& as_run) {
+  rt::Scene global = scene;
+  global.heuristic.region = rt::RegionChoice::kGlobal;
+  RecordedSession out = record_session(global, samples);
+  // The radius in force at a tick is the one of the session's last step at or before it.
+  std::size_t k = 0;
+  double radius = 0.0;
+  for (std::size_t s = 0; s < out.steps.size(); ++s) {
+    while (k < as_run.step_tick.size() && as_run.step_tick[k] <= out.step_tick[s]) radius = as_run.step_radius[k++];
+    out.step_radius[s] = radius;
+  }
   return out;
 }
 

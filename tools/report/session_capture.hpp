@@ -19,6 +19,7 @@ struct RecordedSession {
   /// Per step, the region radius the session's deformer had in force (0 for a global region):
   /// with heuristic.region = "auto", what the tick's budget allowed on this machine.
   std::vector<double> step_radius;
+  std::vector<std::uint64_t> step_tick;  ///< the station's tick of each step
   /// Every applied frame as the log records it: what a reduced session transfers.
   std::vector<logging::CollisionRecord> records;
   /// The deformer's time of each step that collided, ns (the station measures it).
@@ -35,5 +36,13 @@ struct RecordedSession {
 /// Throws std::invalid_argument for a scene without samples of either kind, and whatever the
 /// station's set-up throws.
 RecordedSession record_session(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples = nullptr);
+
+/// The trajectory the report measures: the session's steps taken with a global region, so that
+/// which steps apply a frame cannot depend on this machine's speed (an auto region is sized by
+/// the measured frame time, and a region can decide whether a frame folds); each step carries
+/// the radius `as_run` (the session as its scene asks) had in force at that tick, for the
+/// "region auto" row.
+RecordedSession record_trajectory(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,
+                                  const RecordedSession& as_run);
 
 }  // namespace sculpt::tools::report
