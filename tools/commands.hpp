@@ -30,6 +30,7 @@ std::unique_ptr<Command> add_glove_sim_command(CLI::App& app);
 std::unique_ptr<Command> add_replay_command(CLI::App& app);
 std::unique_ptr<Command> add_check_command(CLI::App& app);
 std::unique_ptr<Command> add_render_command(CLI::App& app);
+std::unique_ptr<Command> add_report_command(CLI::App& app);
 /// Only in builds with LCM (SCULPT_HAS_VIEW): the viewer follows the station's live channels.
 std::unique_ptr<Command> add_view_command(CLI::App& app);
 

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   commands.push_back(add_replay_command(app));
   commands.push_back(add_check_command(app));
   commands.push_back(add_render_command(app));
+  commands.push_back(add_report_command(app));
 #if SCULPT_HAS_VIEW
   commands.push_back(add_view_command(app));
 #endif
