@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "commands.hpp"
+#if SCULPT_HAS_LCM
 #include "guard_report.hpp"
 #include "json_report.hpp"
 #include "output_paths.hpp"
@@ -21,10 +22,12 @@
 #include "report/report_files.hpp"
 #include "report/session_log.hpp"
 #include "sculpt/rt/scene.hpp"
+#endif
 
 namespace sculpt::tools {
 namespace {
 
+#if SCULPT_HAS_LCM
 // The reduced model set's ratios (thesis 4.4.1).
 constexpr double kReducedRatios[] = {0.05, 0.10, 0.25, 0.50};
 
@@ -144,6 +147,26 @@ class ReportCommand final : public Command {
   std::string session_path_, model_path_, out_dir_, json_path_;
   bool quick_ = false;
 };
+#else
+// Built without LCM: a report records and reads its sessions as event logs, so the command is
+// there only to say how to get it.
+class ReportCommand final : public Command {
+ public:
+  explicit ReportCommand(CLI::App& app) {
+    sub_ = app.add_subcommand("report", "Error against run time (needs LCM; this build has none)");
+    sub_->allow_extras();
+  }
+  bool chosen() const override { return sub_->parsed(); }
+  int run() override {
+    std::cerr << "sculpt report: error: the report records and reads sessions as event logs, which need LCM; "
+                 "reconfigure with -DSCULPT_WITH_LCM=ON\n";
+    return kExitFailure;
+  }
+
+ private:
+  CLI::App* sub_ = nullptr;
+};
+#endif
 
 }  // namespace
 

@@ -403,6 +403,8 @@ if [[ $with_lcm != ON ]]; then
   one_line_error "replay says it needs LCM" "reading event logs needs LCM; reconfigure with -DSCULPT_WITH_LCM=ON"
   expect_exit 2 "render --log refused" -- "$SCULPT" render "$sphere" --log "$work/some.lcmlog" --out "$work/x.png" --size 64x64
   one_line_error "render --log says it needs LCM" "--log needs LCM; reconfigure with -DSCULPT_WITH_LCM=ON"
+  expect_exit 1 "report refused" -- "$SCULPT" report --quick --out "$work/report"
+  one_line_error "report says it needs LCM" "sessions as event logs, which need LCM; reconfigure with -DSCULPT_WITH_LCM=ON"
   echo "$passed passed, $failed failed (built without LCM: playback left out)"
   [[ $failed -eq 0 ]]
   exit
