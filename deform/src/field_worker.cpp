@@ -1,6 +1,12 @@
 #include "sculpt/deform/field_worker.hpp"
 
+#include <chrono>
+
 namespace sculpt::deform {
+
+namespace {
+constexpr std::chrono::microseconds kSpin{200};
+}  // namespace
 
 FieldWorker::FieldWorker() : thread_([this] { loop(); }) {}
 
@@ -30,6 +36,13 @@ void FieldWorker::loop() noexcept {
   std::uint64_t handled = 0;
   for (;;) {
     std::uint64_t generation = posted_.load(std::memory_order_acquire);
+    // Frames come a tick apart while a finger presses: spin a little before sleeping, since a
+    // futex wake-up costs tens of microseconds on a virtual machine.
+    const auto spin_until = std::chrono::steady_clock::now() + kSpin;
+    while (generation == handled && std::chrono::steady_clock::now() < spin_until) {
+      __builtin_ia32_pause();
+      generation = posted_.load(std::memory_order_acquire);
+    }
     while (generation == handled) {
       posted_.wait(generation, std::memory_order_acquire);
       generation = posted_.load(std::memory_order_acquire);
