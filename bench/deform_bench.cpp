@@ -63,7 +63,7 @@ std::vector<ProbeMotion> spread_probes(const PointModel& m, std::size_t fingers,
 }
 
 void frame(benchmark::State& state, const std::string& name, Precision precision, double region_spacings,
-           int threads = 1) {
+           int threads = 1, double normal_skip_bound = 0.0) {
   const PointModel* source = load(name);
   if (!source) {
     state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
@@ -79,6 +79,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   settings.contact.guard_distance = 1.5 * spacing;
   settings.field.precision = precision;
   settings.threads = threads;
+  settings.field.normal_skip_bound = normal_skip_bound;
   if (region_spacings > 0.0) {
     settings.region.kind = RegionSettings::Kind::kRadius;
     settings.region.radius = region_spacings * spacing;
@@ -87,7 +88,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   // The model's arrays and everything the deformer reserved (index, journal, buffers).
   const double bytes_per_point = (heap_bytes() - heap_before) / static_cast<double>(model.size());
   const std::vector<ProbeMotion> probes = spread_probes(*source, fingers, spacing);
-  std::size_t moved = 0, collisions = 0;
+  std::size_t moved = 0, collisions = 0, normals_kept = 0;
   for (auto _ : state) {
     state.PauseTiming();
     deformer.restore(*source);  // every iteration deforms the same undeformed model
@@ -96,6 +97,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
     benchmark::DoNotOptimize(model.x.data());
     moved = r.region_points;
     collisions = r.collisions;
+    normals_kept = r.normals_bounded;
   }
   if (collisions != fingers) state.SkipWithError("not every finger collided");
   // Error against the exact full computation (every point, double): the price of the region
@@ -105,6 +107,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   exact_settings.field.precision = Precision::kDouble;
   exact_settings.region = RegionSettings{};
   exact_settings.threads = 1;
+  exact_settings.field.normal_skip_bound = 0.0;
   Deformer exact_deformer(exact, exact_settings);
   const double scale = exact_deformer.deform(probes).max_displacement;
   double worst = 0.0;
@@ -113,6 +116,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   state.counters["points"] = static_cast<double>(model.size());
   state.counters["bytes/point"] = bytes_per_point;
   state.counters["moved"] = static_cast<double>(moved);
+  if (normal_skip_bound > 0.0) state.counters["normals_kept"] = static_cast<double>(normals_kept);
   state.counters["frames/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
@@ -179,6 +183,17 @@ void register_all() {
                         [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 2); })
           ->Arg(5)
           ->UseRealTime()  // the caller's CPU time would leave out the worker's half
+          ->Unit(ms);
+      // The bounded normal update (FieldOptions::normal_skip_bound = 1e-2: a kept normal is
+      // within 1.0e-2 rad of the carried one), on one core and on both.
+      RegisterBenchmark(("Scan/" + name + "/global_bounded/" + tag).c_str(),
+                        [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 1, 1e-2); })
+          ->Arg(5)
+          ->Unit(ms);
+      RegisterBenchmark(("Scan/" + name + "/global_bounded_2threads/" + tag).c_str(),
+                        [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 2, 1e-2); })
+          ->Arg(5)
+          ->UseRealTime()
           ->Unit(ms);
       RegisterBenchmark(("Scan/" + name + "/region20/" + tag).c_str(),
                         [p, name](benchmark::State& s) { frame(s, name, p, 20.0); })

@@ -102,6 +102,11 @@ class DeformCommand final : public Command {
     sub_->add_option("--threads", threads_, "2: a worker on a second core takes half of a large displacement pass")
         ->check(CLI::Range(1, 2))
         ->default_val(1);
+    sub_->add_option("--normal-skip-bound", normal_skip_bound_,
+                     "The bounded normal update (an approximation, 0 = off): points whose gradient bound is at "
+                     "most this keep their normal, within asin(b / (1 - b)) of the carried one")
+        ->check(CLI::Range(0.0, deform::kMaxNormalSkipBound))
+        ->default_val(0.0);
     encoding_option_ = sub_->add_option("--encoding", encoding_, "ascii | binary | binary_big_endian for a .ply output")
                            ->check(CLI::IsMember({"ascii", "binary", "binary_big_endian"}))
                            ->default_val("binary");
@@ -213,6 +218,7 @@ class DeformCommand final : public Command {
     settings.solver.form = form_ == "force" ? deform::WeightForm::kForce : deform::WeightForm::kScale;
     settings.field.precision = use_double_ ? deform::Precision::kDouble : deform::Precision::kFloat;
     settings.threads = threads_;
+    settings.field.normal_skip_bound = normal_skip_bound_;
     if (region_option_->count()) {
       settings.region.kind = deform::RegionSettings::Kind::kRadius;
       settings.region.radius = region_radius_;
@@ -392,6 +398,9 @@ class DeformCommand final : public Command {
             {"frames_applied", frames_applied},
             {"rejected", r.rejected},
             {"min_jacobian", r.min_jacobian},
+            {"normal_skip_bound", s.field.normal_skip_bound},
+            {"normals_bounded", r.normals_bounded},
+            {"max_normal_bound_angle", r.max_normal_bound_angle},
             {"max_miss", r.max_miss},
             {"guards", guards_json(r.guards)}};
   }
@@ -430,6 +439,10 @@ class DeformCommand final : public Command {
         "result   %zu collision(s), %zu points moved, max displacement %.4g, band/contact %.3g, frame %.3g ms\n",
         r.collisions, r.region_points, r.max_displacement,
         r.max_contact_displacement > 0 ? r.max_border_displacement / r.max_contact_displacement : 0.0, frame_ms);
+    if (s.field.normal_skip_bound > 0.0) {
+      std::printf("normals  %zu kept under the bound %g (each within %.3g rad of the carried one)\n", r.normals_bounded,
+                  s.field.normal_skip_bound, r.max_normal_bound_angle);
+    }
     std::printf("guards   min det(I + grad u) %.4g, miss %.4g%s;", r.min_jacobian, r.max_miss,
                 r.rejected ? ", frame undone" : "");
     const std::string guards = acted_guards(r.guards, ' ');
@@ -450,6 +463,7 @@ class DeformCommand final : public Command {
   CLI::App* sub_ = nullptr;
   int repeat_ = 1;
   int threads_ = 1;
+  double normal_skip_bound_ = 0.0;
   std::string model_path_, out_path_, json_path_, kernel_, form_, mode_, reference_text_, encoding_;
   std::vector<std::string> contacts_;
   deform::Material material_;

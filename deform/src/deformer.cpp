@@ -82,6 +82,10 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   if (settings_.threads != 1 && settings_.threads != 2) {
     throw std::invalid_argument("deform: threads must be 1 or 2, got " + std::to_string(settings_.threads));
   }
+  if (!(settings_.field.normal_skip_bound >= 0.0 && settings_.field.normal_skip_bound <= kMaxNormalSkipBound)) {
+    throw std::invalid_argument("deform: normal skip bound must lie in [0, 0.1], got " +
+                                std::to_string(settings_.field.normal_skip_bound));
+  }
   if (settings_.threads == 2) worker_ = std::make_unique<FieldWorker>();
   const std::size_t n = model_.size();
   report_.contacts.resize(settings_.max_probes);
@@ -424,6 +428,8 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
     return Outcome::kFolded;
   }
   r.max_displacement = moved.max_displacement;
+  r.normals_bounded = moved.gradients_skipped;
+  r.max_normal_bound_angle = normal_bound_angle(moved.max_skipped_bound);
   r.region_points = region_.global() ? model_.size() : region_.points().size();
   r.border_points = band.size();
   drift_ += r.max_displacement;
@@ -507,8 +513,8 @@ void Deformer::merge_step(std::size_t count) noexcept {
   m.max_miss = last.max_miss;
   m.guards = carried_;
   if (!last_applied) m.guards += last.guards;
-  m.collisions = m.region_points = m.border_points = 0;
-  m.max_displacement = m.max_contact_displacement = m.max_border_displacement = 0.0;
+  m.collisions = m.region_points = m.border_points = m.normals_bounded = 0;
+  m.max_displacement = m.max_contact_displacement = m.max_border_displacement = m.max_normal_bound_angle = 0.0;
   m.min_jacobian = applied_ > 0 ? 1.0 : last.min_jacobian;
   m.rejected = applied_ == 0 && last.rejected;
   for (std::size_t p = 0; p < count && applied_ > 1; ++p) m.contacts[p].traction_resultant = Vec3{};
@@ -517,6 +523,8 @@ void Deformer::merge_step(std::size_t count) noexcept {
     m.collisions += f.collisions;
     m.region_points += f.region_points;
     m.border_points += f.border_points;
+    m.normals_bounded += f.normals_bounded;
+    m.max_normal_bound_angle = std::max(m.max_normal_bound_angle, f.max_normal_bound_angle);
     m.max_displacement = std::max(m.max_displacement, f.max_displacement);
     m.max_contact_displacement = std::max(m.max_contact_displacement, f.max_contact_displacement);
     m.max_border_displacement = std::max(m.max_border_displacement, f.max_border_displacement);

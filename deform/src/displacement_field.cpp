@@ -17,7 +17,11 @@ struct SourceTable {
   std::size_t count = 0;
   std::array<T, kMaxSources> px{}, py{}, pz{};  // source position
   std::array<T, kMaxSources> fx{}, fy{}, fz{};  // effective force
+  // The bound on each source's ||grad u||_2 is bound_r2 / r_eps^2 + bound_r4 / r_eps^4
+  // (FieldOptions::normal_skip_bound; the README's physics notes derive it).
+  std::array<T, kMaxSources> bound_r2{}, bound_r4{};
   T alpha{}, beta{}, gamma{}, eps2{};
+  T skip_bound{};  // 0: every gradient is computed
 };
 
 template <typename T>
@@ -37,6 +41,11 @@ SourceTable<T> make_table(const Kernel& kernel, std::span<const SourceForce> sou
   t.beta = static_cast<T>(k.beta);
   t.gamma = static_cast<T>(k.gamma);
   t.eps2 = static_cast<T>(k.eps_squared);
+  for (std::size_t s = 0; s < t.count; ++s) {
+    const double f = norm(sources[s].force);
+    t.bound_r2[s] = static_cast<T>(f * (std::abs(k.alpha) + 5.0 * std::abs(k.gamma)));
+    t.bound_r4[s] = static_cast<T>(f * 3.0 * std::abs(k.beta));
+  }
   return t;
 }
 
@@ -54,6 +63,7 @@ struct Block {
   const float* qy = nullptr;
   const float* qz = nullptr;
   alignas(64) T ux[kBlock], uy[kBlock], uz[kBlock];
+  alignas(64) T bound[kBlock];  // summed bounds on ||grad u||_2, when the pass keeps them
 };
 
 // The displacement gradient g_lm = du_l/dQ_m over a block (same formula as
@@ -73,29 +83,33 @@ struct GradientBlock {
 //   a = g'(r)/r f + h'(r)/r (r.f) r,  b = h r,  h = gamma/r^3,
 // and fused multiply-adds (one rounding each, exact IEEE operations; the build's ISO mode does
 // not contract a*b+c on its own).
-template <typename T, bool kGradient, bool kFirst>
+// With `kBound` (and no gradient), the block's `bound` sums each source's bound on ||grad u||_2
+// instead, from the same reciprocal: three more operations where the gradient costs thirty.
+template <typename T, bool kGradient, bool kFirst, bool kBound>
 void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb);
 
-template <typename T, bool kGradient>
+template <typename T, bool kGradient, bool kBound = false>
 void add_sources(const SourceTable<T>& t, Block<T>& b, GradientBlock<T>& gb) {
+  static_assert(!(kGradient && kBound), "the bound stands in for the gradient");
   for (std::size_t s = 0; s < t.count; ++s) {
     if (s == 0) {
-      add_source<T, kGradient, true>(t, s, b, gb);
+      add_source<T, kGradient, true, kBound>(t, s, b, gb);
     } else {
-      add_source<T, kGradient, false>(t, s, b, gb);
+      add_source<T, kGradient, false, kBound>(t, s, b, gb);
     }
   }
 }
 
 // One source over the block. The first one starts the sums from zero in registers (same
 // values as adding to zeroed arrays, without clearing twelve arrays per block first).
-template <typename T, bool kGradient, bool kFirst>
+template <typename T, bool kGradient, bool kFirst, bool kBound>
 void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb) {
   const std::size_t n = b.size;
   const T alpha = t.alpha, beta = t.beta, gamma = t.gamma, eps2 = t.eps2;
   const T minus_alpha = -alpha, minus_3beta = -(T(3) * beta), minus_3gamma = T(-3) * gamma;
   const T px = t.px[s], py = t.py[s], pz = t.pz[s];
   const T fx = t.fx[s], fy = t.fy[s], fz = t.fz[s];
+  const T bound_r2 = t.bound_r2[s], bound_r4 = t.bound_r4[s];
   const float* __restrict qx = b.qx;
   const float* __restrict qy = b.qy;
   const float* __restrict qz = b.qz;
@@ -123,6 +137,7 @@ void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlo
     b.ux[k] = sum(b.ux, k) + (diag * fx + radial * rx);
     b.uy[k] = sum(b.uy, k) + (diag * fy + radial * ry);
     b.uz[k] = sum(b.uz, k) + (diag * fz + radial * rz);
+    if constexpr (kBound) b.bound[k] = sum(b.bound, k) + (bound_r2 + bound_r4 * inv2) * inv2;
     if constexpr (kGradient) {
       const T inv5 = inv3 * inv2;
       const T g_prime = std::fma(minus_3beta, inv5, minus_alpha * inv3);
@@ -224,6 +239,157 @@ std::uint32_t non_finite_bits(const T* v, std::size_t n) {
   return bad;
 }
 
+// The bounded normal update (FieldOptions::normal_skip_bound). Where the bound b on
+// ||grad u||_2 at a point is at most the setting, its gradient is not computed: the point moves
+// with the displacement alone, det(I + grad u) >= (1 - b)^3 > 0 there (no fold can hide), and
+// its kept normal is within asin(b / (1 - b)) of the carried one. Every other point's gradient,
+// Jacobian and normal are computed exactly as the exact pass computes them (same operations,
+// same bits). Decided in two steps:
+// - per block, from each source's distance to the block's bounding box (no point of the block
+//   is nearer): a block that passes whole costs the displacement alone;
+// - otherwise per point: the displacement pass also sums each point's bound (from the same
+//   reciprocal), and the points over the setting get their gradient on a gathered sub-block of
+//   their positions before the move; when most of the block needs it, the whole block is
+//   computed in place (gathering would cost more) and none of its points counts as skipped.
+template <typename T>
+double block_gradient_bound(const SourceTable<T>& t, const float* x, const float* y, const float* z, std::size_t n) {
+  // Lane-wise extremes, reduced once: a running scalar min does not vectorise without
+  // fast-math; min and max are exact whatever the order.
+  constexpr std::size_t kLanes = 16;
+  alignas(64) float lx[kLanes], ly[kLanes], lz[kLanes], hx[kLanes], hy[kLanes], hz[kLanes];
+  for (std::size_t j = 0; j < kLanes; ++j) {
+    lx[j] = hx[j] = x[0];
+    ly[j] = hy[j] = y[0];
+    lz[j] = hz[j] = z[0];
+  }
+  std::size_t k = 0;
+  for (; k + kLanes <= n; k += kLanes) {
+    for (std::size_t j = 0; j < kLanes; ++j) {
+      lx[j] = x[k + j] < lx[j] ? x[k + j] : lx[j];
+      hx[j] = x[k + j] > hx[j] ? x[k + j] : hx[j];
+      ly[j] = y[k + j] < ly[j] ? y[k + j] : ly[j];
+      hy[j] = y[k + j] > hy[j] ? y[k + j] : hy[j];
+      lz[j] = z[k + j] < lz[j] ? z[k + j] : lz[j];
+      hz[j] = z[k + j] > hz[j] ? z[k + j] : hz[j];
+    }
+  }
+  for (std::size_t j = 0; k + j < n; ++j) {
+    lx[j] = std::min(lx[j], x[k + j]);
+    hx[j] = std::max(hx[j], x[k + j]);
+    ly[j] = std::min(ly[j], y[k + j]);
+    hy[j] = std::max(hy[j], y[k + j]);
+    lz[j] = std::min(lz[j], z[k + j]);
+    hz[j] = std::max(hz[j], z[k + j]);
+  }
+  float lo[3] = {lx[0], ly[0], lz[0]}, hi[3] = {hx[0], hy[0], hz[0]};
+  for (std::size_t j = 1; j < kLanes; ++j) {
+    lo[0] = std::min(lo[0], lx[j]);
+    hi[0] = std::max(hi[0], hx[j]);
+    lo[1] = std::min(lo[1], ly[j]);
+    hi[1] = std::max(hi[1], hy[j]);
+    lo[2] = std::min(lo[2], lz[j]);
+    hi[2] = std::max(hi[2], hz[j]);
+  }
+  double bound = 0.0;
+  for (std::size_t s = 0; s < t.count; ++s) {
+    const double p[3] = {static_cast<double>(t.px[s]), static_cast<double>(t.py[s]), static_cast<double>(t.pz[s])};
+    double d2 = static_cast<double>(t.eps2);
+    for (int a = 0; a < 3; ++a) {
+      const double outside = std::max({0.0, static_cast<double>(lo[a]) - p[a], p[a] - static_cast<double>(hi[a])});
+      d2 += outside * outside;
+    }
+    const double inv2 = 1.0 / d2;  // +inf for a source inside the box: never skipped
+    bound += (static_cast<double>(t.bound_r2[s]) + static_cast<double>(t.bound_r4[s]) * inv2) * inv2;
+  }
+  return bound;  // NaN (a NaN position) compares false against the setting: computed exactly
+}
+
+struct SkipStats {
+  std::size_t skipped = 0;
+  double max_skipped_bound = 0.0;
+  double min_det_floor = 1.0;
+};
+
+// The per-point step over a block whose `bound` the displacement pass summed. The skipped
+// points' extremes are kept per block lane (a scalar running max does not vectorise).
+template <typename T>
+struct SkipLanes {
+  alignas(64) T max_bound[kBlock];
+  alignas(64) T min_det_floor[kBlock];
+  alignas(64) std::uint32_t skipped[kBlock];
+  SkipLanes() {
+    for (std::size_t k = 0; k < kBlock; ++k) {
+      max_bound[k] = T(0);
+      min_det_floor[k] = T(1);
+      skipped[k] = 0;
+    }
+  }
+  void add_to(SkipStats& s) const {
+    for (std::size_t k = 0; k < kBlock; ++k) {
+      s.skipped += skipped[k];
+      s.max_skipped_bound = std::max(s.max_skipped_bound, static_cast<double>(max_bound[k]));
+      s.min_det_floor = std::min(s.min_det_floor, static_cast<double>(min_det_floor[k]));
+    }
+  }
+};
+
+template <typename T, bool kCarry>
+void point_bounded_gradient(const SourceTable<T>& t, const Block<T>& b, GradientBlock<T>& gb, const float* x,
+                            const float* y, const float* z, float* nx, float* ny, float* nz, T* __restrict lane_min_det,
+                            std::uint32_t& bad, SkipLanes<T>& lanes) {
+  const T tolerance = t.skip_bound;
+  alignas(64) T dets[kBlock];
+  Block<T> sub;
+  // NaN compares false: a point whose bound is not a number gets its gradient computed.
+  std::uint32_t needed = 0;
+  for (std::size_t k = 0; k < b.size; ++k) needed += static_cast<std::uint32_t>(!(b.bound[k] <= tolerance));
+  const bool whole = 2 * needed > b.size;
+  std::uint8_t need[kBlock];
+  alignas(64) float sx[kBlock], sy[kBlock], sz[kBlock];
+  std::size_t m = 0;
+  if (whole) {
+    sub.qx = x;
+    sub.qy = y;
+    sub.qz = z;
+    for (std::size_t k = 0; k < b.size; ++k) need[k] = static_cast<std::uint8_t>(k);
+    m = b.size;
+  } else {
+    for (std::size_t k = 0; k < b.size; ++k) {
+      const T bound = b.bound[k];
+      const bool skip = bound <= tolerance;
+      const T floor = T(1) - bound;
+      const T det_floor = floor * floor * floor;
+      lanes.min_det_floor[k] = skip && det_floor < lanes.min_det_floor[k] ? det_floor : lanes.min_det_floor[k];
+      lanes.max_bound[k] = skip && bound > lanes.max_bound[k] ? bound : lanes.max_bound[k];
+      lanes.skipped[k] += static_cast<std::uint32_t>(skip);
+    }
+    if (needed == 0) return;
+    // Branch-free compaction: each point is written at the next free slot, which advances only
+    // past the points that need their gradient.
+    for (std::size_t k = 0; k < b.size; ++k) {
+      need[m] = static_cast<std::uint8_t>(k);
+      sx[m] = x[k];
+      sy[m] = y[k];
+      sz[m] = z[k];
+      m += static_cast<std::size_t>(!(b.bound[k] <= tolerance));
+    }
+    sub.qx = sx;
+    sub.qy = sy;
+    sub.qz = sz;
+  }
+  sub.size = m;
+  add_sources<T, true>(t, sub, gb);
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t k = need[j];
+    float unused = 0.0f;
+    const T det = kCarry ? jacobian_and_normal<T, true>(gb, j, nx[k], ny[k], nz[k])
+                         : jacobian_and_normal<T, false>(gb, j, unused, unused, unused);
+    dets[j] = det;
+    lane_min_det[k] = det < lane_min_det[k] ? det : lane_min_det[k];
+  }
+  bad |= non_finite_bits(dets, m);
+}
+
 }  // namespace
 
 // Records a block of old values into a journal reserved at set-up: no allocation, by
@@ -314,6 +480,7 @@ struct PassExtremes {
   T max_squared = T(0);
   T min_det = T(1);
   std::uint32_t bad = 0;
+  SkipStats skips;
 };
 
 // Each block: record the old positions (and normals) in the journal, add every source's
@@ -324,10 +491,15 @@ struct PassExtremes {
 // lane and reduced once at the end: a running scalar max/min does not vectorise without
 // fast-math, lane-wise selects do, and max and min are exact whatever the order.
 // Covers the pass's points first .. last - 1 (first a multiple of kBlock).
-template <typename T, bool kGradient, bool kCarry, bool kContiguous, typename IndexOf>
+// With kBounded, the gradient is computed only where its bound exceeds the table's skip_bound
+// (bounded_gradient).
+template <typename T, bool kGradient, bool kCarry, bool kContiguous, bool kBounded, typename IndexOf>
 PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::size_t first, std::size_t last,
                             IndexOf index_of, UndoJournal* journal) noexcept {
   static_assert(kGradient || !kCarry, "carrying normals needs the gradient");
+  static_assert(kGradient || !kBounded, "only a gradient can be bounded");
+  SkipStats skips;
+  SkipLanes<T> skip_lanes;
   Block<T> b;
   GradientBlock<T> gb;
   alignas(64) float gx[kBlock], gy[kBlock], gz[kBlock];     // gathered positions
@@ -371,9 +543,24 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     b.qx = x;
     b.qy = y;
     b.qz = z;
-    add_sources<T, kGradient>(t, b, gb);
-    finish_block<T, kGradient, kCarry>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
-    if constexpr (kGradient) bad |= non_finite_bits(dets, n);
+    double bound = 0.0;
+    if constexpr (kBounded) bound = block_gradient_bound(t, x, y, z, n);
+    if (kBounded && bound <= static_cast<double>(t.skip_bound)) {
+      add_sources<T, false>(t, b, gb);
+      finish_block<T, false, false>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
+      skips.skipped += n;
+      skips.max_skipped_bound = std::max(skips.max_skipped_bound, bound);
+      const double floor = 1.0 - bound;
+      skips.min_det_floor = std::min(skips.min_det_floor, floor * floor * floor);
+    } else if (kBounded) {
+      add_sources<T, false, true>(t, b, gb);
+      point_bounded_gradient<T, kCarry>(t, b, gb, x, y, z, nx, ny, nz, lane_min_det, bad, skip_lanes);
+      finish_block<T, false, false>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
+    } else {
+      add_sources<T, kGradient>(t, b, gb);
+      finish_block<T, kGradient, kCarry>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
+      if constexpr (kGradient) bad |= non_finite_bits(dets, n);
+    }
     if constexpr (kCarry) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
     bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
     if constexpr (!kContiguous) {
@@ -383,6 +570,8 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
   }
   PassExtremes<T> e;
   e.bad = bad;
+  if constexpr (kBounded) skip_lanes.add_to(skips);
+  e.skips = skips;
   for (std::size_t k = 0; k < kBlock; ++k) {
     e.max_squared = lane_max_squared[k] > e.max_squared ? lane_max_squared[k] : e.max_squared;
     e.min_det = lane_min_det[k] < e.min_det ? lane_min_det[k] : e.min_det;
@@ -395,13 +584,13 @@ constexpr std::size_t kMinSplitPoints = 16384;
 
 // A pass over `count` points, split at a block boundary between the caller and the worker when
 // there is one and the pass is large enough.
-template <typename T, bool kGradient, bool kCarry, bool kContiguous, typename IndexOf>
+template <typename T, bool kGradient, bool kCarry, bool kContiguous, bool kBounded, typename IndexOf>
 FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
                         UndoJournal* journal, FieldWorker* worker) {
   if (journal) JournalWriter{*journal}.begin_pass(kContiguous, kCarry, count);
   PassExtremes<T> e;
   if (!worker || count < kMinSplitPoints) {
-    e = apply_range<T, kGradient, kCarry, kContiguous>(model, t, 0, count, index_of, journal);
+    e = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(model, t, 0, count, index_of, journal);
   } else {
     struct Halves {
       PointModel& model;
@@ -415,35 +604,49 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
         [](void* context, int part) noexcept {
           Halves& h = *static_cast<Halves*>(context);
           const std::size_t first = part == 0 ? 0 : h.split, last = part == 0 ? h.split : h.count;
-          h.part[part] =
-              apply_range<T, kGradient, kCarry, kContiguous>(h.model, h.table, first, last, h.index_of, h.journal);
+          h.part[part] = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(h.model, h.table, first, last,
+                                                                                  h.index_of, h.journal);
         },
         &halves);
     e.max_squared = std::max(halves.part[0].max_squared, halves.part[1].max_squared);
     e.min_det = std::min(halves.part[0].min_det, halves.part[1].min_det);
     e.bad = halves.part[0].bad | halves.part[1].bad;
+    e.skips.skipped = halves.part[0].skips.skipped + halves.part[1].skips.skipped;
+    e.skips.max_skipped_bound =
+        std::max(halves.part[0].skips.max_skipped_bound, halves.part[1].skips.max_skipped_bound);
+    e.skips.min_det_floor = std::min(halves.part[0].skips.min_det_floor, halves.part[1].skips.min_det_floor);
   }
   FieldResult result;
   result.finite = e.bad == 0 && std::isfinite(static_cast<double>(e.max_squared));
   result.max_displacement = std::sqrt(static_cast<double>(e.max_squared));
-  result.min_jacobian = static_cast<double>(e.min_det);
+  result.min_jacobian = std::min(static_cast<double>(e.min_det), e.skips.min_det_floor);
+  result.gradients_skipped = e.skips.skipped;
+  result.max_skipped_bound = e.skips.max_skipped_bound;
   return result;
 }
 
-// The three loop variants as compile-time choices, so none of them tests a flag per point.
+// The loop variants as compile-time choices, so none of them tests a flag per point.
 template <typename T, bool kContiguous, typename IndexOf>
 FieldResult apply_variant(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
                           bool carry_normals, bool jacobian, UndoJournal* journal, FieldWorker* worker) {
-  if (carry_normals) return apply_typed<T, true, true, kContiguous>(model, t, count, index_of, journal, worker);
-  if (jacobian) return apply_typed<T, true, false, kContiguous>(model, t, count, index_of, journal, worker);
-  return apply_typed<T, false, false, kContiguous>(model, t, count, index_of, journal, worker);
+  const bool bounded = t.skip_bound > T(0);
+  if (carry_normals && bounded) {
+    return apply_typed<T, true, true, kContiguous, true>(model, t, count, index_of, journal, worker);
+  }
+  if (carry_normals) return apply_typed<T, true, true, kContiguous, false>(model, t, count, index_of, journal, worker);
+  if (jacobian && bounded) {
+    return apply_typed<T, true, false, kContiguous, true>(model, t, count, index_of, journal, worker);
+  }
+  if (jacobian) return apply_typed<T, true, false, kContiguous, false>(model, t, count, index_of, journal, worker);
+  return apply_typed<T, false, false, kContiguous, false>(model, t, count, index_of, journal, worker);
 }
 
 template <typename T>
 FieldResult apply_in(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
                      std::span<const std::uint32_t> indices, bool all_points, bool carry_normals, bool jacobian,
-                     UndoJournal* journal, FieldWorker* worker) {
-  const SourceTable<T> table = make_table<T>(kernel, sources);
+                     double skip_bound, UndoJournal* journal, FieldWorker* worker) {
+  SourceTable<T> table = make_table<T>(kernel, sources);
+  table.skip_bound = static_cast<T>(skip_bound);
   if (all_points) {
     return apply_variant<T, true>(
         model, table, model.size(), [](std::size_t k) { return k; }, carry_normals, jacobian, journal, worker);
@@ -456,6 +659,13 @@ FieldResult apply_in(PointModel& model, const Kernel& kernel, std::span<const So
 
 }  // namespace
 
+double normal_bound_angle(double gradient_bound) noexcept {
+  // ||F^-T - I|| <= b / (1 - b) by the Neumann series of (I + grad u)^-1, and a vector moved
+  // by at most d (< 1) of its length turns by at most asin(d).
+  if (!(gradient_bound > 0.0)) return 0.0;
+  return std::asin(std::min(1.0, gradient_bound / (1.0 - gradient_bound)));
+}
+
 FieldResult apply_displacements(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
                                 std::span<const std::uint32_t> indices, bool all_points, const FieldOptions& options,
                                 bool jacobian, UndoJournal* journal, FieldWorker* worker) noexcept {
@@ -463,9 +673,11 @@ FieldResult apply_displacements(PointModel& model, const Kernel& kernel, std::sp
   if (sources.empty()) return {};
   const bool normals = options.carry_normals && model.has_normals();
   if (options.precision == Precision::kDouble) {
-    return apply_in<double>(model, kernel, sources, indices, all_points, normals, jacobian, journal, worker);
+    return apply_in<double>(model, kernel, sources, indices, all_points, normals, jacobian, options.normal_skip_bound,
+                            journal, worker);
   }
-  return apply_in<float>(model, kernel, sources, indices, all_points, normals, jacobian, journal, worker);
+  return apply_in<float>(model, kernel, sources, indices, all_points, normals, jacobian, options.normal_skip_bound,
+                         journal, worker);
 }
 
 }  // namespace sculpt::deform

@@ -62,6 +62,15 @@ std::vector<Approximation> approximations(const deform::DeformSettings& session,
     rows.push_back(r);
   }
   if (has_normals) {
+    // The bounded normal update (FieldOptions::normal_skip_bound) at two bounds: a kept normal is
+    // within 1.0e-3 and 1.0e-2 rad of the carried one in each frame.
+    for (double bound : {1e-3, 1e-2}) {
+      char name[48];
+      std::snprintf(name, sizeof name, "normals bounded %g", bound);
+      Approximation r{name, "normals", base, false};
+      r.settings.field.normal_skip_bound = bound;
+      rows.push_back(r);
+    }
     Approximation r{"normals off", "normals", base, false};
     r.settings.field.carry_normals = false;
     rows.push_back(r);

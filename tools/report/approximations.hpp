@@ -22,7 +22,8 @@ struct Approximation {
 /// setting); the region at 5, 10, 20 and 40 spacings, and `auto` (the radii the session's budget
 /// chose, when `auto_radius` > 0: its first); the regularized kernel at 1 and 2
 /// spacings (Kelvin instead when the session is regularized); each finger's boundary rows
-/// thinned to 4 and 2 points (a fingertip patch holds a few points at the default eps); the normal update off (when the model has normals).
+/// thinned to 4 and 2 points (a fingertip patch holds a few points at the default eps); the
+/// bounded normal update at 1e-3 and 1e-2, and the normal update off (when the model has normals).
 std::vector<Approximation> approximations(const deform::DeformSettings& session, double spacing, bool has_normals,
                                           double auto_radius);
 

@@ -153,6 +153,10 @@ std::vector<Row> session_rows(const rt::Scene& scene, const std::vector<hal::Glo
     rt::Scene stale = scene;
     stale.deform.carry_normals = false;
     variant("session normals off", stale);
+    // The bounded normal update over a whole session: its per-frame bound adds up frame by frame.
+    rt::Scene bounded = scene;
+    bounded.deform.normal_skip_bound = 1e-2;
+    variant("session normals bounded 0.01", bounded);
   }
   std::size_t done = 0;
   for (double ratio : ratios) {

@@ -132,8 +132,12 @@ struct FrameReport {
   double max_contact_displacement = 0.0;  ///< largest over the contact neighbourhoods
   double max_border_displacement = 0.0;   ///< largest over the pinned band
   double min_jacobian = 1.0;              ///< smallest det(I + grad u) over the moved points
-  double max_miss = 0.0;                  ///< largest ContactReport::miss
-  bool rejected = false;                  ///< undone by a guard: the model is as before it
+  /// With FieldOptions::normal_skip_bound: the moved points that kept their normal, and the
+  /// largest bound on how far (radians) a kept normal is from the carried one.
+  std::size_t normals_bounded = 0;
+  double max_normal_bound_angle = 0.0;
+  double max_miss = 0.0;  ///< largest ContactReport::miss
+  bool rejected = false;  ///< undone by a guard: the model is as before it
   GuardCounts guards;
 };
 

@@ -32,6 +32,13 @@ struct FieldOptions {
   /// Carry normals with the deformation gradient, n' = normalize(F^-T n) (MATH.md §6). Ignored
   /// when the model has no normals.
   bool carry_normals = true;
+  /// The bounded normal update, a named approximation (0, the default: off). Where the sum over
+  /// the sources of a bound on ||grad u||_2 at a point is at most this, the gradient is not
+  /// computed: the point keeps its normal, which is then within asin(b / (1 - b)) of the carried
+  /// one, and det(I + grad u) >= (1 - b)^3 > 0 there, so no fold is hidden from the guard (the
+  /// README's physics notes derive both). Everywhere else the normal and the Jacobian are exactly
+  /// the exact pass's, bit for bit; positions are always. In [0, 0.1].
+  double normal_skip_bound = 0.0;
 };
 
 /// The positions and normals a frame overwrote, so that a frame rejected after it ran (a fold,
@@ -59,6 +66,13 @@ class UndoJournal {
   bool recorded_normals_ = false;  // the last pass carried normals, so they are in nx_ .. nz_
 };
 
+/// The largest FieldOptions::normal_skip_bound: a kept normal then stays within 0.11 rad.
+inline constexpr double kMaxNormalSkipBound = 0.1;
+
+/// The bound on the angle between a kept normal and the carried one, asin(b / (1 - b)), for a
+/// gradient bound b <= kMaxNormalSkipBound (0 for b = 0).
+double normal_bound_angle(double gradient_bound) noexcept;
+
 /// What a pass of the displacement loop did.
 struct FieldResult {
   double max_displacement = 0.0;  ///< largest displacement length applied
@@ -68,6 +82,10 @@ struct FieldResult {
   /// False when a displacement, a new position, a carried normal or a Jacobian was not finite
   /// (the model then holds those values until the caller restores the journal).
   bool finite = true;
+  /// With FieldOptions::normal_skip_bound: the moved points whose gradient was bounded, not
+  /// computed, and the largest bound among them (0 when none was skipped).
+  std::size_t gradients_skipped = 0;
+  double max_skipped_bound = 0.0;
 };
 
 /// Moves the points `indices` (ascending, unique) of `model` by the displacement of `sources`,
