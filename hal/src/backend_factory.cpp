@@ -7,6 +7,7 @@
 #include "sim_glove_source.hpp"
 #if SCULPT_HAS_USB
 #include "usb_glove_source.hpp"
+#include "usb_haptic_sink.hpp"
 #endif
 #if SCULPT_HAS_CAN
 #include "can_glove_source.hpp"
@@ -67,6 +68,12 @@ std::unique_ptr<HapticSink> make_haptic_sink(const HapticConfig& c) {
       return std::make_unique<CanHapticSink>(c.can, c.queue_capacity);
 #else
       left_out("the can haptic sink", "SCULPT_WITH_CAN");
+#endif
+    case SinkKind::kUsb:
+#if SCULPT_HAS_USB
+      return std::make_unique<UsbHapticSink>(c.usb, static_cast<float>(c.max_force), c.queue_capacity);
+#else
+      left_out("the usb haptic sink", "SCULPT_WITH_USB");
 #endif
   }
   throw std::invalid_argument("unknown haptic sink");

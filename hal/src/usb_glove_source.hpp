@@ -12,11 +12,9 @@
 #include "sculpt/hal/frame_codec.hpp"
 #include "sculpt/hal/glove_source.hpp"
 #include "sequence_tracker.hpp"
+#include "usb_device.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 
-struct libusb_context;
-struct libusb_device;
-struct libusb_device_handle;
 struct libusb_transfer;
 
 namespace sculpt::hal {
@@ -26,12 +24,10 @@ namespace sculpt::hal {
 /// callbacks, which feed the bytes to a FrameDecoder and queue the samples.
 ///
 /// Hot-unplug: a transfer ending with LIBUSB_TRANSFER_NO_DEVICE (or a resubmit failing with
-/// LIBUSB_ERROR_NO_DEVICE) makes the state kDisconnected and counts a disconnect; the event
-/// thread then tries to reopen the device every 200 ms, at once when libusb reports its
-/// arrival (hotplug, where the platform has it), and counts a reconnect when it succeeds.
-/// On Linux libusb learns of arrivals only from udev's events, so where no udev daemon runs
-/// (containers, an initramfs) its device list would never show the device again: every
-/// fifth failed attempt therefore starts a fresh libusb context, which scans the bus anew.
+/// LIBUSB_ERROR_NO_DEVICE) makes the state kDisconnected and counts a disconnect; once every
+/// transfer is back the event thread reopens the device as UsbDevice paces it (every 200 ms, a
+/// fresh libusb context every fifth failure, since without udev libusb never sees it return)
+/// and counts a reconnect when it succeeds.
 class UsbGloveSource final : public GloveSource {
  public:
   /// @throw std::invalid_argument when interface_number is negative or endpoint is not IN.
@@ -51,25 +47,21 @@ class UsbGloveSource final : public GloveSource {
   SourceState state() const noexcept override { return state_.load(std::memory_order_acquire); }
   const char* name() const noexcept override { return "usb"; }
 
-  /// For libusb's hotplug callback only (its signature needs libusb.h, which this header
-  /// keeps out): tells the event thread that a matching device arrived. `self` is the source.
-  static void note_arrival(void* self) noexcept;
-
  private:
   static constexpr std::size_t kTransfers = 4;
   static constexpr std::size_t kTransferBytes = 512;
 
-  /// Opens, claims and submits; returns 0 or a libusb error code, and on failure leaves the
-  /// device closed. `why` names the failed step.
+  /// Opens, claims and submits; returns 0 or a libusb error code. `why` names the failed step.
+  /// A failed submit leaves the device open until the transfers already submitted are back.
   int open_device(const char*& why) noexcept;
-  void close_device() noexcept;
   void run() noexcept;
   void on_transfer(libusb_transfer* transfer) noexcept;
   void on_bytes(const std::uint8_t* data, std::size_t size) noexcept;
   void lost_device() noexcept;
-  /// Replaces the libusb context by a new one (no device open, no transfer in flight).
-  void refresh_context() noexcept;
-  void register_hotplug() noexcept;
+  bool any_in_flight() const noexcept;
+  /// Before a fresh libusb context replaces the old one: new transfers for the old ones, or
+  /// false (keep the old context) while one is in flight or none can be allocated.
+  bool renew_transfers() noexcept;
   static void transfer_callback(libusb_transfer* transfer);
 
   UsbConfig config_;
@@ -77,13 +69,8 @@ class UsbGloveSource final : public GloveSource {
   AtomicSourceCounters counters_;
   std::atomic<SourceState> state_{SourceState::kStopped};
   std::atomic<bool> stop_requested_{false};
-  std::atomic<bool> arrived_{false};  // set by the hotplug callback
-  bool device_lost_ = false;          // event thread only, like everything below
-  unsigned failed_reopens_ = 0;
-  libusb_context* context_ = nullptr;
-  libusb_device_handle* handle_ = nullptr;
-  int hotplug_handle_ = 0;
-  bool hotplug_registered_ = false;
+  bool device_lost_ = false;  // event thread only, like everything below
+  UsbDevice device_;
   std::array<libusb_transfer*, kTransfers> transfers_{};
   std::array<bool, kTransfers> in_flight_{};
   std::array<std::array<std::uint8_t, kTransferBytes>, kTransfers> buffers_{};

@@ -604,8 +604,8 @@ void read_registration(const Section& root, Scene& scene) {
 }
 
 void read_haptic(const Section& root, Scene& scene) {
-  const Section s =
-      root.table("haptic", {"sink", "queue_capacity", "lcm", "serial", "can", "gain", "max_force", "max_force_rate"});
+  const Section s = root.table(
+      "haptic", {"sink", "queue_capacity", "lcm", "serial", "can", "usb", "gain", "max_force", "max_force_rate"});
   auto& haptic = scene.haptic;
   HapticLimits& limits = scene.haptic_limits;
   limits.gain = s.non_negative("gain").value_or(limits.gain);
@@ -621,9 +621,10 @@ void read_haptic(const Section& root, Scene& scene) {
   haptic.sink = s.choice<hal::SinkKind>("sink", {{"none", hal::SinkKind::kNone},
                                                  {"lcm", hal::SinkKind::kLcm},
                                                  {"serial", hal::SinkKind::kSerial},
-                                                 {"can", hal::SinkKind::kCan}})
+                                                 {"can", hal::SinkKind::kCan},
+                                                 {"usb", hal::SinkKind::kUsb}})
                     .value_or(hal::SinkKind::kNone);
-  check_backend_sections(s, "sink", sink, {"lcm", "serial", "can"});
+  check_backend_sections(s, "sink", sink, {"lcm", "serial", "can", "usb"});
   if (haptic.sink == hal::SinkKind::kNone) {
     if (s.has("queue_capacity")) s.fail("queue_capacity", "only used with a haptic sink (haptic.sink is 'none')");
     return;
@@ -640,6 +641,19 @@ void read_haptic(const Section& root, Scene& scene) {
       read_serial(s.table("serial", {"device", "baud", "reconnect_ms"}), haptic.serial);
       break;
     case hal::SinkKind::kCan: read_can(s.table("can", {"interface", "fd", "base_id"}), haptic.can); break;
+    case hal::SinkKind::kUsb: {
+      const Section usb = s.table("usb", {"vendor_id", "product_id", "interface", "out_endpoint", "transfer"});
+      read_usb(usb, haptic.usb);
+      haptic.max_force = limits.max_force;  // the sink bounds every force again, itself
+      const hal::UsbConfig& glove = scene.glove.config.usb;
+      // USB lets an interface be claimed once: the source holds the glove's.
+      if (scene.glove.config.backend == hal::Backend::kUsb && glove.vendor_id == haptic.usb.vendor_id &&
+          glove.product_id == haptic.usb.product_id && glove.interface_number == haptic.usb.interface_number) {
+        usb.fail("interface", "the glove source claims interface " + std::to_string(glove.interface_number) +
+                                  " of this device; the OUT endpoint must be on an interface of its own");
+      }
+      break;
+    }
     case hal::SinkKind::kNone: break;
   }
 }

@@ -295,6 +295,31 @@ device = "/dev/ttyACM1"
     EXPECT_EQ(s.haptic.queue_capacity, 64u);
     EXPECT_EQ(s.haptic.serial.device, "/dev/ttyACM1");
   }
+  {
+    const Scene s = parse(model + R"([glove]
+backend = "usb"
+[glove.usb]
+vendor_id = 0x1209
+product_id = 0xA7C3
+[haptic]
+sink = "usb"
+max_force = 2.5
+[haptic.usb]
+vendor_id = 0x1209
+product_id = 0xA7C3
+out_endpoint = 0x02
+transfer = "bulk"
+)");
+    EXPECT_EQ(s.haptic.sink, hal::SinkKind::kUsb);
+    const auto& usb = s.haptic.usb;
+    EXPECT_EQ(usb.vendor_id, 0x1209);
+    EXPECT_EQ(usb.product_id, 0xA7C3);
+    EXPECT_EQ(usb.interface_number, 1);  // the glove source's is 0: an interface is claimed once
+    EXPECT_EQ(usb.out_endpoint, 0x02);
+    EXPECT_EQ(usb.transfer, hal::UsbConfig::Transfer::kBulk);
+    EXPECT_DOUBLE_EQ(s.haptic.max_force, 2.5);  // the sink bounds the forces again, to the same limit
+    EXPECT_DOUBLE_EQ(s.haptic_limits.max_force, 2.5);
+  }
 }
 
 TEST(Scene, EverySectionReadsItsKeys) {
@@ -625,6 +650,21 @@ sink = "can"
 [haptic.can]
 )",
        "haptic.sink", 10, "needs normals"},
+      {"usb haptic sink on the interface the usb glove source claims", R"([model]
+path = "m.ply"
+[glove]
+backend = "usb"
+[glove.usb]
+vendor_id = 0x1209
+product_id = 1
+[haptic]
+sink = "usb"
+[haptic.usb]
+vendor_id = 0x1209
+product_id = 1
+interface = 0
+)",
+       "haptic.usb.interface", 13, "the glove source claims interface 0 of this device"},
       {"regularized kernel without eps", kMinimal + "[kernel]\nkind = \"regularized\"\n", "kernel.eps", 9,
        "missing required key (kernel.kind is 'regularized')"},
       {"eps with the kelvin kernel", kMinimal + "[kernel]\neps = 0.1\n", "kernel.eps", 9,

@@ -44,7 +44,7 @@ struct UsbConfig {
   std::uint16_t product_id = 0;
   int interface_number = 0;
   std::uint8_t endpoint = 0x81;      ///< IN endpoint
-  std::uint8_t out_endpoint = 0x01;  ///< OUT endpoint for haptic frames
+  std::uint8_t out_endpoint = 0x01;  ///< OUT endpoint for haptic frames (the usb haptic sink)
   enum class Transfer { kInterrupt, kBulk } transfer = Transfer::kInterrupt;
 };
 
@@ -72,7 +72,7 @@ struct GloveConfig {
   CanConfig can;
 };
 
-enum class SinkKind { kNone, kLcm, kSerial, kCan };
+enum class SinkKind { kNone, kLcm, kSerial, kCan, kUsb };
 
 struct HapticConfig {
   SinkKind sink = SinkKind::kNone;
@@ -80,6 +80,10 @@ struct HapticConfig {
   SerialConfig serial;
   LcmConfig lcm;
   CanConfig can;
+  /// The usb sink's device: ids, the interface holding the OUT endpoint (one of its own when
+  /// the USB source reads the same glove: an interface is claimed once), out_endpoint, transfer.
+  UsbConfig usb{.interface_number = 1};
+  double max_force = 4.0;  ///< N: the usb sink's own bound on a finger's force (the scene's haptic.max_force)
 };
 
 }  // namespace sculpt::hal

@@ -1,5 +1,5 @@
 #pragma once
-// Where the contact forces go for haptic feedback (lcm, serial, can).
+// Where the contact forces go for haptic feedback (lcm, serial, can, usb).
 
 #include <array>
 #include <cstdint>
