@@ -28,7 +28,7 @@ using SquareRows = std::array<std::array<double, kMaxUnknowns>, kMaxUnknowns>;
 // where a Givens rotation per row took one of each per row and column) and the block's updates
 // run over contiguous columns of fixed length, so they vectorise. The whole stays (n + 1)^2
 // doubles plus one block.
-constexpr int kBlockConditions = 16;
+constexpr int kBlockConditions = 32;
 constexpr int kBlockRows = 3 * kBlockConditions;
 
 // Fixed-length columns: Eigen vectorises their dot products and updates (its reductions sum in
@@ -82,12 +82,13 @@ class BlockedQr {
       const double beta = -std::copysign(pair_length(std::abs(alpha), below), alpha);
       const double tau = (beta - alpha) / beta;
       const double inv = 1.0 / (alpha - beta);  // v = vk * inv
+      // All of the column's dot products first, then all updates: each loop's iterations are
+      // independent, so the reductions' latencies overlap instead of queueing behind updates.
+      std::array<double, kMaxUnknowns + 1> w;
+      for (int j = k + 1; j <= n_; ++j) w[j] = tau * (r_[k][j] + inv * dot_column(vk, block_[j]));
       for (int j = k + 1; j <= n_; ++j) {
-        BlockColumn& vj = block_[static_cast<std::size_t>(j)];
-        const double w = tau * (r_[k][j] + inv * dot_column(vk, vj));
-        r_[k][j] -= w;
-        const double scale = w * inv;
-        vj -= scale * vk;
+        r_[k][j] -= w[j];
+        block_[j] -= (w[j] * inv) * vk;
       }
       r_[k][k] = beta;
       vk.setZero();
@@ -231,10 +232,17 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
     return std::abs(f[k]) <= zero_fraction * norm(f) ? 0.0 : f[k];
   };
 
+  // Each source's factor per force component: 1 in the force form, F_ik (or 0) in the scale
+  // form, found once rather than per row.
+  std::array<std::array<double, 3>, kMaxSources> factor{};
+  for (std::size_t s = 0; s < n; ++s) {
+    for (int k = 0; k < 3; ++k) factor[s][k] = scaled ? scaled_component(sources[s].force, k) : 1.0;
+  }
+
   // Writes the weighted rows of conditions first..first+count (displacements first, then
   // tractions) into a block's columns: row 3 q + c is component c of condition first + q, and
   // column 3 s + k the coefficient of unknown (s, k), column `unknowns` the target.
-  auto fill = [&](std::size_t first, std::size_t count, BlockedQr& qr) {
+  auto fill_general = [&](std::size_t first, std::size_t count, BlockedQr& qr) {
     for (std::size_t q = 0; q < count; ++q) {
       const std::size_t index = first + q;
       const bool is_displacement = index < displacements.size();
@@ -257,13 +265,60 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
           m = traction_map(kernel, sources[s].source, t.point, t.normal);
         }
         for (int k = 0; k < 3; ++k) {
-          const double f = w * (scaled ? scaled_component(sources[s].force, k) : 1.0);
+          const double f = w * factor[s][k];
           BlockColumn& col = qr.column(static_cast<int>(3 * s) + k);
           for (int c = 0; c < 3; ++c) col[row + static_cast<std::size_t>(c)] = m(c, k) * f;
         }
       }
       BlockColumn& rhs = qr.column(unknowns);
       for (int c = 0; c < 3; ++c) rhs[row + static_cast<std::size_t>(c)] = w * target[c];
+    }
+  };
+  // The same for a block of displacement conditions only (every row of a region's band), one
+  // source at a time over the block's points, so the square roots and divisions run as vector
+  // instructions. The arithmetic is displacement_matrix()'s, operation for operation, so the
+  // rows are the same bits as fill_general()'s (tested).
+  auto fill_displacements = [&](std::size_t first, std::size_t count, BlockedQr& qr) {
+    std::array<double, kBlockConditions> px{}, py{}, pz{}, weight{}, rx{}, ry{}, rz{}, diag{}, g{};
+    for (std::size_t q = 0; q < count; ++q) {
+      const DisplacementCondition& d = displacements[first + q];
+      px[q] = d.point.x;
+      py[q] = d.point.y;
+      pz[q] = d.point.z;
+      weight[q] = d.weight;
+      BlockColumn& rhs = qr.column(unknowns);
+      for (int c = 0; c < 3; ++c) rhs[static_cast<Eigen::Index>(3 * q) + c] = d.weight * d.displacement[c];
+    }
+    for (std::size_t s = 0; s < n; ++s) {
+      const Vec3 p = sources[s].source;
+      for (std::size_t q = 0; q < count; ++q) {
+        rx[q] = px[q] - p.x;
+        ry[q] = py[q] - p.y;
+        rz[q] = pz[q] - p.z;
+        const double r2 = rx[q] * rx[q] + ry[q] * ry[q] + rz[q] * rz[q] + coeffs.eps_squared;
+        const double inv = 1.0 / std::sqrt(r2);
+        const double inv3 = inv / r2;
+        diag[q] = coeffs.alpha * inv + coeffs.beta * inv3;
+        g[q] = coeffs.gamma * inv3;
+      }
+      for (int k = 0; k < 3; ++k) {
+        const std::array<double, kBlockConditions>& rk = k == 0 ? rx : (k == 1 ? ry : rz);
+        BlockColumn& col = qr.column(static_cast<int>(3 * s) + k);
+        for (std::size_t q = 0; q < count; ++q) {
+          const double f = weight[q] * factor[s][k];
+          const auto row = static_cast<Eigen::Index>(3 * q);
+          col[row + 0] = ((k == 0 ? diag[q] : 0.0) + g[q] * rx[q] * rk[q]) * f;
+          col[row + 1] = ((k == 1 ? diag[q] : 0.0) + g[q] * ry[q] * rk[q]) * f;
+          col[row + 2] = ((k == 2 ? diag[q] : 0.0) + g[q] * rz[q] * rk[q]) * f;
+        }
+      }
+    }
+  };
+  auto fill = [&](std::size_t first, std::size_t count, BlockedQr& qr) {
+    if (first + count <= displacements.size()) {
+      fill_displacements(first, count, qr);
+    } else {
+      fill_general(first, count, qr);
     }
   };
 

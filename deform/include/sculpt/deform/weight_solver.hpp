@@ -70,7 +70,7 @@ struct SolveReport {
   bool damped = false;               ///< Tikhonov fallback used
 };
 
-/// Solves for the weights without forming the normal equations: rows are folded, 48 at a time,
+/// Solves for the weights without forming the normal equations: rows are folded, 96 at a time,
 /// into a small upper-triangular factor (blocked Householder QR), whose SVD (one-sided Jacobi)
 /// then gives the rank, the condition number and the minimum-norm solution. Working storage is
 /// fixed-size, so solve() neither allocates nor throws, whatever the number of rows.
