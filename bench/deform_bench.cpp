@@ -5,6 +5,7 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -17,6 +18,7 @@
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
+#include "sculpt/deform/weight_solver.hpp"
 #include "ratio_report.hpp"
 #include "yardstick.hpp"
 
@@ -135,6 +137,36 @@ void bare_loop(benchmark::State& state, Precision precision) {
       benchmark::Counter(1e5 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
+// The weight solve alone: `sources` Kelvin sources just outside the unit sphere, each over a
+// contact point, and `conditions` displacement conditions spread over the caps under them (the
+// contacts' patches and a region's pinned band: 445 conditions is the 100k dragon's five-finger
+// region frame, 7 the sphere's three-finger global one).
+void solve_only(benchmark::State& state) {
+  const auto sources_count = static_cast<std::size_t>(state.range(0));
+  const auto conditions_count = static_cast<std::size_t>(state.range(1));
+  const Kernel kernel;
+  std::vector<SourceSetup> sources;
+  std::vector<Vec3> contacts;
+  for (std::size_t s = 0; s < sources_count; ++s) {
+    const double t = 2.0 * static_cast<double>(s) + 0.5;
+    const Vec3 a = normalized(Vec3{std::cos(t), std::sin(t), 0.3 * static_cast<double>(s) - 0.6});
+    contacts.push_back(a);
+    sources.push_back({a * 1.05, a * -0.01});
+  }
+  std::vector<DisplacementCondition> conditions;
+  for (std::size_t i = 0; i < conditions_count; ++i) {
+    const Vec3& a = contacts[i % sources_count];
+    const double t = 0.7 * static_cast<double>(i);
+    const Vec3 offset{0.1 * std::cos(t), 0.1 * std::sin(t), 0.05 * std::cos(1.3 * t)};
+    conditions.push_back({normalized(a + offset), i < sources_count ? a * -0.01 : Vec3{}, 1.0});
+  }
+  const WeightSolver solver;
+  std::vector<Vec3> weights(sources_count), effective(sources_count);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(solver.solve(kernel, sources, conditions, {}, weights, effective).residual);
+  }
+}
+
 // The yardsticks on as many points as each model has (bench/yardstick.hpp).
 void yardsticks(std::size_t points) {
   benchmark::RegisterBenchmark(bench::bare_name(points).c_str(), [points](benchmark::State& state) {
@@ -160,6 +192,12 @@ void register_all() {
   using benchmark::RegisterBenchmark;
   const auto ms = benchmark::kMillisecond;
   for (std::size_t points : {3203u, 54559u, 100250u, 437645u}) yardsticks(points);
+  RegisterBenchmark("Solve/sources_conditions", solve_only)
+      ->Args({1, 59})
+      ->Args({3, 7})
+      ->Args({5, 445})
+      ->Args({5, 1000})
+      ->Unit(benchmark::kMicrosecond);
   for (auto [precision, tag] : {std::pair{Precision::kFloat, "float"}, std::pair{Precision::kDouble, "double"}}) {
     const Precision p = precision;
     RegisterBenchmark((std::string("BareLoop5x100k/") + tag).c_str(), [p](benchmark::State& s) {

@@ -53,8 +53,9 @@ void RatioReporter::Finalize() {
   std::printf(
       "\nRatios in this run (CPU time, wall time for a frame on more than one thread; T = the bare\n"
       "five-source Kelvin pass on one core on as many points, S = one streaming pass over the\n"
-      "positions):\n");
-  std::printf("%-52s %10s %9s %9s %12s\n", "frame", "ms", "x T", "x S", "bytes/point");
+      "positions; T(100k) = the same pass on 100,250 points, the issue's yardstick for every model size):\n");
+  std::printf("%-52s %10s %9s %10s %9s %12s\n", "frame", "ms", "x T", "x T(100k)", "x S", "bytes/point");
+  const auto bare_100k = results_.find(bare_name(100250));
   for (const std::string& name : order_) {
     const Result& r = results_.at(name);
     if (!(r.points > 0.0)) continue;  // a yardstick itself
@@ -65,7 +66,8 @@ void RatioReporter::Finalize() {
       if (it == results_.end()) return static_cast<double>(NAN);
       return ms / (r.threaded ? it->second.real_ms : it->second.cpu_ms);
     };
-    std::printf("%-52s %10.4f %9.2f %9.2f %12.0f\n", name.c_str(), ms, ratio(bare), ratio(stream), r.bytes_per_point);
+    std::printf("%-52s %10.4f %9.2f %10.3f %9.2f %12.0f\n", name.c_str(), ms, ratio(bare), ratio(bare_100k),
+                ratio(stream), r.bytes_per_point);
   }
   for (const std::string& name : order_) {
     const Result& r = results_.at(name);

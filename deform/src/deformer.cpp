@@ -195,13 +195,20 @@ std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displace
 }
 
 double Deformer::field_magnitude_max(std::span<const std::uint32_t> points) const noexcept {
-  double largest = 0.0;
+  // The kernel's coefficients once, not once per point and source (displacement() derives them
+  // from the material each call: most of this loop's time over a region's band).
+  const KernelCoefficients k = coefficients(settings_.kernel);
+  double largest_squared = 0.0;
   for (std::uint32_t j : points) {
+    const Vec3 q = model_.position(j);
     Vec3 u;
-    for (const SourceForce& f : forces_) u += displacement(settings_.kernel, f.source, f.force, model_.position(j));
-    largest = std::max(largest, norm(u));
+    for (const SourceForce& f : forces_) {
+      const Mat3 m = displacement_matrix(k, f.source, q);
+      for (int c = 0; c < 3; ++c) u[c] += m(c, 0) * f.force.x + m(c, 1) * f.force.y + m(c, 2) * f.force.z;
+    }
+    largest_squared = std::max(largest_squared, squared_norm(u));
   }
-  return largest;
+  return std::sqrt(largest_squared);
 }
 
 void Deformer::compute_tractions(FrameReport& r) noexcept {

@@ -188,7 +188,7 @@ PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q, 
 }
 
 bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double radius, std::vector<std::uint32_t>& out,
-                               double drift) const noexcept {
+                               double drift, bool ascending) const noexcept {
   out.clear();
   if (!indexes(model) && !(size() == 0 && model.empty())) return false;
   if (size() == 0 || !(radius >= 0.0)) return true;
@@ -197,7 +197,7 @@ bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double ra
   impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
   // Tree order is spatial; callers want index order (stable, cache-friendly writes). std::sort
   // works in place, so this stays allocation-free.
-  std::sort(out.begin(), out.end());
+  if (ascending) std::sort(out.begin(), out.end());
   return !collector.truncated();
 }
 

@@ -19,59 +19,184 @@ namespace sculpt::deform {
 namespace {
 
 constexpr int kMaxUnknowns = 3 * static_cast<int>(kMaxSources);
-using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxUnknowns, kMaxUnknowns>;
-using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxUnknowns, 1>;
+using SquareRows = std::array<std::array<double, kMaxUnknowns>, kMaxUnknowns>;
 
-// sqrt(a^2 + b^2) without a libm call (std::hypot was a quarter of a region frame, one call
-// per Givens rotation). The plain formula is used where neither square can overflow or
-// underflow (|a|, |b| within 2^-500..2^500, every real row here); outside it the larger
-// magnitude is factored out, as hypot does. Either is within a few ulps of the exact length.
-inline double rotation_length(double a, double b) {
-  constexpr double kSafeMax = 0x1p500, kSafeMin = 0x1p-500;
-  const double big = std::max(std::abs(a), std::abs(b));
-  const double small = std::min(std::abs(a), std::abs(b));
+// The upper-triangular factor R of [A | b], built from blocks of rows with Householder
+// reflections: after all rows, R(0:n, 0:n) is A's R, R(0:n, n) is Q^T b and |R(n, n)| the
+// residual of the unconstrained fit. A block of kBlockRows rows is folded into R column by
+// column; each column costs one reflector (one square root and one division for the whole block,
+// where a Givens rotation per row took one of each per row and column) and the block's updates
+// run over contiguous columns of fixed length, so they vectorise. The whole stays (n + 1)^2
+// doubles plus one block.
+constexpr int kBlockConditions = 32;
+constexpr int kBlockRows = 3 * kBlockConditions;
+
+// Fixed-length columns: Eigen vectorises their dot products and updates (its reductions sum in
+// packets, which plain loops may not do without reassociation).
+using BlockColumn = Eigen::Matrix<double, kBlockRows, 1>;
+
+inline double dot_column(const BlockColumn& a, const BlockColumn& b) { return a.dot(b); }
+
+// |v| without overflow or underflow: the plain sum of squares where it stays well inside the
+// double range (every real block here), the largest magnitude factored out otherwise.
+inline double column_length(const BlockColumn& v) {
+  constexpr double kSafeMax = 0x1p900, kSafeMin = 0x1p-900;
+  const double plain = dot_column(v, v);
+  if (plain < kSafeMax && plain > kSafeMin) return std::sqrt(plain);
+  if (std::isnan(plain)) return plain;  // a NaN entry: let it reach R, so the solve reports it
+  double big = 0.0;
+  for (double x : v) big = std::max(big, std::abs(x));
+  if (big == 0.0 || !std::isfinite(big)) return big;
+  return big * (v / big).norm();
+}
+
+// sqrt(a^2 + b^2) for two non-negative lengths, with the same guard.
+inline double pair_length(double a, double b) {
+  constexpr double kSafeMax = 0x1p450, kSafeMin = 0x1p-450;
+  const double big = std::max(a, b), small = std::min(a, b);
   if (big < kSafeMax && small > kSafeMin) return std::sqrt(a * a + b * b);
   if (big == 0.0) return 0.0;
   const double ratio = small / big;
   return big * std::sqrt(1.0 + ratio * ratio);
 }
 
-// The upper-triangular factor R of [A | b] built one row at a time with Givens rotations:
-// after all rows, R(0:n, 0:n) is A's R, R(0:n, n) is Q^T b and |R(n, n)| the residual of the
-// unconstrained fit. Each row costs O(n^2) and the whole stays (n + 1)^2 doubles.
-class StreamingQr {
+class BlockedQr {
  public:
-  explicit StreamingQr(int unknowns) : n_(unknowns) {
+  explicit BlockedQr(int unknowns) : n_(unknowns) {
     for (auto& row : r_) row.fill(0.0);
+    clear_block();
   }
 
-  void add_row(std::array<double, kMaxUnknowns + 1>& row) {
+  /// Column j (0..n, n the right-hand side) of the pending block; rows not written stay zero.
+  BlockColumn& column(int j) { return block_[static_cast<std::size_t>(j)]; }
+
+  /// Folds the pending block into R and zeroes it for the next one. Zero rows change nothing.
+  void fold() {
     for (int k = 0; k <= n_; ++k) {
-      const double a = r_[k][k], b = row[k];
-      if (b == 0.0) continue;
-      const double h = rotation_length(a, b);
-      const double inv = 1.0 / h;
-      const double c = a * inv, s = b * inv;
-      for (int j = k; j <= n_; ++j) {
-        const double rk = r_[k][j], xj = row[j];
-        r_[k][j] = c * rk + s * xj;
-        row[j] = -s * rk + c * xj;
+      BlockColumn& vk = block_[static_cast<std::size_t>(k)];
+      const double below = column_length(vk);
+      if (below == 0.0) continue;
+      // The reflector H = I - tau [1; v] [1; v]^T maps (R(k,k), vk) onto (beta, 0) (LAPACK's
+      // dlarfg): beta takes the sign opposite to alpha, so alpha - beta never cancels.
+      const double alpha = r_[k][k];
+      const double beta = -std::copysign(pair_length(std::abs(alpha), below), alpha);
+      const double tau = (beta - alpha) / beta;
+      const double inv = 1.0 / (alpha - beta);  // v = vk * inv
+      // All of the column's dot products first, then all updates: each loop's iterations are
+      // independent, so the reductions' latencies overlap instead of queueing behind updates.
+      std::array<double, kMaxUnknowns + 1> w;
+      for (int j = k + 1; j <= n_; ++j) w[j] = tau * (r_[k][j] + inv * dot_column(vk, block_[j]));
+      for (int j = k + 1; j <= n_; ++j) {
+        r_[k][j] -= w[j];
+        block_[j] -= (w[j] * inv) * vk;
       }
+      r_[k][k] = beta;
+      vk.setZero();
     }
   }
 
   double at(int i, int j) const { return r_[i][j]; }
 
  private:
+  void clear_block() {
+    for (auto& c : block_) c.setZero();
+  }
+
   int n_;
   std::array<std::array<double, kMaxUnknowns + 1>, kMaxUnknowns + 1> r_;
+  std::array<BlockColumn, kMaxUnknowns + 1> block_;
 };
 
-// Fills the three rows (one per displacement or traction component) that a condition
-// contributes: rows[c][3 s + k] is the coefficient of unknown (s, k).
-struct RowBlock {
-  std::array<std::array<double, kMaxUnknowns + 1>, 3> rows{};
-};
+// The SVD of the equilibrated n x n factor R by one-sided (Hestenes) Jacobi on its rows, then
+// the rank, the condition numbers and the minimum-norm (or damped) solution of R x = qtb.
+// The columns of B = R^T are rotated pairwise until orthogonal, B W = Z, so that
+// R = W diag(|z_k|) (z_k / |z_k|)^T: W holds the left singular vectors and the normalised z_k the
+// right ones. One-sided Jacobi finds small singular values to high relative accuracy (it never
+// forms R^T R), and its columns are contiguous vectors of fixed length L >= n, so each pair's
+// dot products and rotations vectorise; Eigen's two-sided JacobiSVD took 0.1 ms for 15 x 15.
+template <int L>
+bool svd_solve(int n, const SquareRows& r, const std::array<double, kMaxUnknowns>& qtb, const SolverOptions& options,
+               SolveReport& report, std::array<double, kMaxUnknowns>& x) {
+  using Column = Eigen::Matrix<double, L, 1>;
+  std::array<Column, L> b, w;
+  std::array<double, L> squared{};
+  for (int i = 0; i < n; ++i) {
+    b[i].setZero();
+    w[i].setZero();
+    w[i][i] = 1.0;
+    for (int j = i; j < n; ++j) b[i][j] = r[i][j];
+  }
+  // Converged when every pair's cosine is below n ulps (LAPACK's dgesvj uses sqrt(m) ulps).
+  const double tolerance = n * std::numeric_limits<double>::epsilon();
+  constexpr int kMaxSweeps = 40;
+  for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    for (int i = 0; i < n; ++i) squared[i] = b[i].squaredNorm();
+    bool rotated = false;
+    for (int p = 0; p + 1 < n; ++p) {
+      for (int q = p + 1; q < n; ++q) {
+        const double alpha = squared[p], beta = squared[q];
+        const double gamma = b[p].dot(b[q]);
+        if (!(std::abs(gamma) > tolerance * std::sqrt(alpha * beta))) continue;
+        rotated = true;
+        // The rotation that makes columns p and q orthogonal (Rutishauser's formulas).
+        const double zeta = (beta - alpha) / (2.0 * gamma);
+        const double t = std::copysign(1.0, zeta) / (std::abs(zeta) + std::sqrt(1.0 + zeta * zeta));
+        const double c = 1.0 / std::sqrt(1.0 + t * t), s = c * t;
+        const Column bp = b[p];
+        b[p] = c * bp - s * b[q];
+        b[q] = s * bp + c * b[q];
+        const Column wp = w[p];
+        w[p] = c * wp - s * w[q];
+        w[q] = s * wp + c * w[q];
+        squared[p] = std::max(0.0, alpha - t * gamma);
+        squared[q] = beta + t * gamma;
+      }
+    }
+    if (!rotated) break;
+  }
+
+  std::array<double, L> sigma{};
+  std::array<int, L> order{};
+  for (int i = 0; i < n; ++i) {
+    sigma[i] = b[i].norm();
+    order[i] = i;
+  }
+  // Descending singular values (insertion sort: n <= 30; NaN, if any, stays put and fails below).
+  for (int i = 1; i < n; ++i) {
+    for (int k = i; k > 0 && sigma[order[k - 1]] < sigma[order[k]]; --k) std::swap(order[k - 1], order[k]);
+  }
+  auto singular = [&](int k) { return sigma[order[k]]; };
+  const double sigma_max = singular(0);
+  if (!(sigma_max > 0.0) || !std::isfinite(sigma_max)) return false;
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(sigma[i])) return false;
+  }
+
+  const double cutoff = options.rank_tolerance * sigma_max;
+  int rank = 0;
+  while (rank < n && singular(rank) > cutoff) ++rank;
+  report.rank = static_cast<std::size_t>(rank);
+  const double sigma_min = singular(n - 1);
+  report.condition = sigma_min > 0.0 ? sigma_max / sigma_min : std::numeric_limits<double>::infinity();
+  report.effective_condition = sigma_max / singular(rank - 1);
+
+  // Minimum-norm solution over the kept singular values; past max_condition, Tikhonov filter
+  // factors sigma / (sigma^2 + mu^2) damp the weakest directions instead of amplifying noise.
+  report.damped = report.effective_condition > options.max_condition;
+  const double mu = sigma_max / std::sqrt(options.max_condition);
+  Column y = Column::Zero();
+  for (int i = 0; i < n; ++i) y[i] = qtb[i];
+  Column solution = Column::Zero();
+  for (int k = 0; k < rank; ++k) {
+    const int i = order[k];
+    const double s = sigma[i];
+    const double inverse = report.damped ? s / (s * s + mu * mu) : 1.0 / s;
+    // Left vector w_i, right vector b_i / s.
+    solution += b[i] * (w[i].dot(y) * inverse / s);
+  }
+  for (int i = 0; i < n; ++i) x[i] = solution[i];
+  return true;
+}
 
 }  // namespace
 
@@ -107,49 +232,108 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
     return std::abs(f[k]) <= zero_fraction * norm(f) ? 0.0 : f[k];
   };
 
-  // Builds the rows of condition `index` (displacements first, then tractions), weighted.
-  auto fill = [&](std::size_t index, RowBlock& block) {
-    for (auto& row : block.rows) row.fill(0.0);
-    const bool is_displacement = index < displacements.size();
-    double w = 1.0;
-    Vec3 target;
-    for (std::size_t s = 0; s < n; ++s) {
-      Mat3 m;  // m(c, k): component c of the row quantity per unit force component k
+  // Each source's factor per force component: 1 in the force form, F_ik (or 0) in the scale
+  // form, found once rather than per row.
+  std::array<std::array<double, 3>, kMaxSources> factor{};
+  for (std::size_t s = 0; s < n; ++s) {
+    for (int k = 0; k < 3; ++k) factor[s][k] = scaled ? scaled_component(sources[s].force, k) : 1.0;
+  }
+
+  // Writes the weighted rows of conditions first..first+count (displacements first, then
+  // tractions) into a block's columns: row 3 q + c is component c of condition first + q, and
+  // column 3 s + k the coefficient of unknown (s, k), column `unknowns` the target.
+  auto fill_general = [&](std::size_t first, std::size_t count, BlockedQr& qr) {
+    for (std::size_t q = 0; q < count; ++q) {
+      const std::size_t index = first + q;
+      const bool is_displacement = index < displacements.size();
+      double w = 1.0;
+      Vec3 target;
       if (is_displacement) {
-        const DisplacementCondition& d = displacements[index];
-        m = displacement_matrix(coeffs, sources[s].source, d.point);
-        w = d.weight;
-        target = d.displacement;
+        w = displacements[index].weight;
+        target = displacements[index].displacement;
       } else {
-        const TractionCondition& t = tractions[index - displacements.size()];
-        m = traction_map(kernel, sources[s].source, t.point, t.normal);
         w = traction_weight;
-        target = t.traction;
+        target = tractions[index - displacements.size()].traction;
       }
-      for (int c = 0; c < 3; ++c) {
+      const std::size_t row = 3 * q;
+      for (std::size_t s = 0; s < n; ++s) {
+        Mat3 m;  // m(c, k): component c of the row quantity per unit force component k
+        if (is_displacement) {
+          m = displacement_matrix(coeffs, sources[s].source, displacements[index].point);
+        } else {
+          const TractionCondition& t = tractions[index - displacements.size()];
+          m = traction_map(kernel, sources[s].source, t.point, t.normal);
+        }
         for (int k = 0; k < 3; ++k) {
-          const double f = scaled ? scaled_component(sources[s].force, k) : 1.0;
-          block.rows[c][3 * s + k] = w * m(c, k) * f;
+          const double f = w * factor[s][k];
+          BlockColumn& col = qr.column(static_cast<int>(3 * s) + k);
+          for (int c = 0; c < 3; ++c) col[row + static_cast<std::size_t>(c)] = m(c, k) * f;
+        }
+      }
+      BlockColumn& rhs = qr.column(unknowns);
+      for (int c = 0; c < 3; ++c) rhs[row + static_cast<std::size_t>(c)] = w * target[c];
+    }
+  };
+  // The same for a block of displacement conditions only (every row of a region's band), one
+  // source at a time over the block's points, so the square roots and divisions run as vector
+  // instructions. The arithmetic is displacement_matrix()'s, operation for operation, so the
+  // rows are the same bits as fill_general()'s (tested).
+  auto fill_displacements = [&](std::size_t first, std::size_t count, BlockedQr& qr) {
+    std::array<double, kBlockConditions> px{}, py{}, pz{}, weight{}, rx{}, ry{}, rz{}, diag{}, g{};
+    for (std::size_t q = 0; q < count; ++q) {
+      const DisplacementCondition& d = displacements[first + q];
+      px[q] = d.point.x;
+      py[q] = d.point.y;
+      pz[q] = d.point.z;
+      weight[q] = d.weight;
+      BlockColumn& rhs = qr.column(unknowns);
+      for (int c = 0; c < 3; ++c) rhs[static_cast<Eigen::Index>(3 * q) + c] = d.weight * d.displacement[c];
+    }
+    for (std::size_t s = 0; s < n; ++s) {
+      const Vec3 p = sources[s].source;
+      for (std::size_t q = 0; q < count; ++q) {
+        rx[q] = px[q] - p.x;
+        ry[q] = py[q] - p.y;
+        rz[q] = pz[q] - p.z;
+        const double r2 = rx[q] * rx[q] + ry[q] * ry[q] + rz[q] * rz[q] + coeffs.eps_squared;
+        const double inv = 1.0 / std::sqrt(r2);
+        const double inv3 = inv / r2;
+        diag[q] = coeffs.alpha * inv + coeffs.beta * inv3;
+        g[q] = coeffs.gamma * inv3;
+      }
+      for (int k = 0; k < 3; ++k) {
+        const std::array<double, kBlockConditions>& rk = k == 0 ? rx : (k == 1 ? ry : rz);
+        BlockColumn& col = qr.column(static_cast<int>(3 * s) + k);
+        for (std::size_t q = 0; q < count; ++q) {
+          const double f = weight[q] * factor[s][k];
+          const auto row = static_cast<Eigen::Index>(3 * q);
+          col[row + 0] = ((k == 0 ? diag[q] : 0.0) + g[q] * rx[q] * rk[q]) * f;
+          col[row + 1] = ((k == 1 ? diag[q] : 0.0) + g[q] * ry[q] * rk[q]) * f;
+          col[row + 2] = ((k == 2 ? diag[q] : 0.0) + g[q] * rz[q] * rk[q]) * f;
         }
       }
     }
-    for (int c = 0; c < 3; ++c) block.rows[c][unknowns] = w * target[c];
+  };
+  auto fill = [&](std::size_t first, std::size_t count, BlockedQr& qr) {
+    if (first + count <= displacements.size()) {
+      fill_displacements(first, count, qr);
+    } else {
+      fill_general(first, count, qr);
+    }
   };
 
   const std::size_t conditions = displacements.size() + tractions.size();
-  // One pass builds every row once and rotates it into R. Column norms of A equal those of R
-  // (Q is orthogonal), so equilibrating R's columns afterwards is the same as equilibrating A's
-  // first: the rank test and the condition number then do not depend on units (forces of 1e7
-  // against weights of 1).
-  StreamingQr qr(unknowns);
-  RowBlock block;
+  // One pass builds every row once and folds it into R, a block at a time. Column norms of A
+  // equal those of R (Q is orthogonal), so equilibrating R's columns afterwards is the same as
+  // equilibrating A's first: the rank test and the condition number then do not depend on units
+  // (forces of 1e7 against weights of 1).
+  BlockedQr qr(unknowns);
   double rhs_norm = 0.0;
-  for (std::size_t i = 0; i < conditions; ++i) {
-    fill(i, block);
-    for (auto& row : block.rows) {
-      rhs_norm += row[unknowns] * row[unknowns];
-      qr.add_row(row);
-    }
+  for (std::size_t first = 0; first < conditions; first += kBlockConditions) {
+    const std::size_t count = std::min<std::size_t>(kBlockConditions, conditions - first);
+    fill(first, count, qr);
+    rhs_norm += dot_column(qr.column(unknowns), qr.column(unknowns));
+    qr.fold();
   }
   rhs_norm = std::sqrt(rhs_norm);
   std::array<double, kMaxUnknowns> column_norm{};
@@ -158,43 +342,24 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
     column_norm[j] = std::sqrt(column_norm[j]);
   }
 
-  SmallMatrix r(unknowns, unknowns);
-  SmallVector qtb(unknowns);
+  // The equilibrated factor, row by row (only its upper triangle is non-zero).
+  SquareRows r{};
+  std::array<double, kMaxUnknowns> qtb{};
   for (int i = 0; i < unknowns; ++i) {
-    qtb(i) = qr.at(i, unknowns);
-    for (int j = 0; j < unknowns; ++j) {
-      r(i, j) = j >= i && column_norm[j] > 0.0 ? qr.at(i, j) / column_norm[j] : 0.0;
-    }
+    qtb[i] = qr.at(i, unknowns);
+    for (int j = i; j < unknowns; ++j) r[i][j] = column_norm[j] > 0.0 ? qr.at(i, j) / column_norm[j] : 0.0;
   }
-  const Eigen::JacobiSVD<SmallMatrix> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const SmallVector sigma = svd.singularValues();
-  const double sigma_max = sigma.size() > 0 ? sigma(0) : 0.0;
-  if (!(sigma_max > 0.0) || !std::isfinite(sigma_max)) return report;
-
-  const double cutoff = options_.rank_tolerance * sigma_max;
-  std::size_t rank = 0;
-  while (rank < static_cast<std::size_t>(sigma.size()) && sigma(static_cast<int>(rank)) > cutoff) ++rank;
-  report.rank = rank;
-  const double sigma_min = sigma(sigma.size() - 1);
-  report.condition = sigma_min > 0.0 ? sigma_max / sigma_min : std::numeric_limits<double>::infinity();
-  report.effective_condition = sigma_max / sigma(static_cast<int>(rank) - 1);
-
-  // Minimum-norm solution over the kept singular values; past max_condition, Tikhonov filter
-  // factors sigma / (sigma^2 + mu^2) damp the weakest directions instead of amplifying noise.
-  report.damped = report.effective_condition > options_.max_condition;
-  const double mu = sigma_max / std::sqrt(options_.max_condition);
-  const SmallVector utb = svd.matrixU().transpose() * qtb;
-  SmallVector scaled_solution = SmallVector::Zero(unknowns);
-  for (std::size_t k = 0; k < rank; ++k) {
-    const double s = sigma(static_cast<int>(k));
-    const double inverse = report.damped ? s / (s * s + mu * mu) : 1.0 / s;
-    scaled_solution += svd.matrixV().col(static_cast<int>(k)) * (utb(static_cast<int>(k)) * inverse);
-  }
+  std::array<double, kMaxUnknowns> scaled_solution{};
+  const bool solved = unknowns <= 8    ? svd_solve<8>(unknowns, r, qtb, options_, report, scaled_solution)
+                      : unknowns <= 16 ? svd_solve<16>(unknowns, r, qtb, options_, report, scaled_solution)
+                                       : svd_solve<32>(unknowns, r, qtb, options_, report, scaled_solution);
+  if (!solved) return report;
+  const std::size_t rank = report.rank;
 
   for (std::size_t s = 0; s < n; ++s) {
     for (int k = 0; k < 3; ++k) {
       const int j = static_cast<int>(3 * s) + k;
-      const double alpha = column_norm[j] > 0.0 ? scaled_solution(j) / column_norm[j] : 0.0;
+      const double alpha = column_norm[j] > 0.0 ? scaled_solution[j] / column_norm[j] : 0.0;
       weights[s][k] = alpha;
       effective[s][k] = scaled ? alpha * scaled_component(sources[s].force, k) : alpha;
     }
@@ -206,12 +371,14 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
   double residual2 = qr.at(unknowns, unknowns) * qr.at(unknowns, unknowns);
   const bool exact_fit = rank == static_cast<std::size_t>(unknowns) && !report.damped;
   if (!exact_fit) residual2 = 0.0;
-  for (std::size_t i = 0; i < conditions && !exact_fit; ++i) {
-    fill(i, block);
-    for (const auto& row : block.rows) {
-      double ax = -row[unknowns];
+  for (std::size_t first = 0; first < conditions && !exact_fit; first += kBlockConditions) {
+    const std::size_t count = std::min<std::size_t>(kBlockConditions, conditions - first);
+    BlockedQr rows(unknowns);  // only its block is used: a scratch for the same rows
+    fill(first, count, rows);
+    for (std::size_t i = 0; i < 3 * count; ++i) {
+      double ax = -rows.column(unknowns)[i];
       for (std::size_t s = 0; s < n; ++s)
-        for (int k = 0; k < 3; ++k) ax += row[3 * s + k] * weights[s][k];
+        for (int k = 0; k < 3; ++k) ax += rows.column(static_cast<int>(3 * s) + k)[i] * weights[s][k];
       residual2 += ax * ax;
     }
   }

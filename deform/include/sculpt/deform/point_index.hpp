@@ -67,13 +67,15 @@ class PointIndex {
 
   /// Indices of all points whose current position is within `radius` of q (inclusive:
   /// squared distance <= radius * radius), written into `out` (cleared first, ascending index
-  /// order), assuming no point moved more than `drift` since the snapshot.
+  /// order; the tree's spatial order instead when `ascending` is false, for a caller that
+  /// orders the union of several queries once), assuming no point moved more than `drift`
+  /// since the snapshot.
   /// Never allocates or throws: `out` is filled up to its capacity (reserve() it for the
   /// largest neighbourhood, the model size at most) and never grown. Returns true when the
   /// result is complete; false when a match did not fit in out.capacity() or the model is not
   /// one this index indexes (then `out` is empty). Thread-safe (const).
   bool within_radius(const PointModel& model, const Vec3& q, double radius, std::vector<std::uint32_t>& out,
-                     double drift = 0.0) const noexcept;
+                     double drift = 0.0, bool ascending = true) const noexcept;
 
   /// The min(k, size()) nearest snapshot points to q, closest first, with their squared
   /// distances (snapshot positions; a point at q itself is included). For set-up work such as

@@ -70,10 +70,10 @@ struct SolveReport {
   bool damped = false;               ///< Tikhonov fallback used
 };
 
-/// Solves for the weights without forming the normal equations: rows are rotated one at a time
-/// into a small upper-triangular factor (Givens QR), whose SVD then gives the rank, the
-/// condition number and the minimum-norm solution. Working storage is fixed-size, so solve()
-/// neither allocates nor throws, whatever the number of rows.
+/// Solves for the weights without forming the normal equations: rows are folded, 96 at a time,
+/// into a small upper-triangular factor (blocked Householder QR), whose SVD (one-sided Jacobi)
+/// then gives the rank, the condition number and the minimum-norm solution. Working storage is
+/// fixed-size, so solve() neither allocates nor throws, whatever the number of rows.
 class WeightSolver {
  public:
   explicit WeightSolver(const SolverOptions& options = {}) : options_(options) { options_.validate(); }

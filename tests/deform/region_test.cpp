@@ -1,0 +1,60 @@
+// The region's points and its pinned band against a brute-force pass over every point: the
+// union of the contacts' balls, in ascending index order, each point once, and the band the
+// points not deeper than the border width inside any ball.
+#include "sculpt/deform/region.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "sculpt/deform/generators.hpp"
+
+namespace sculpt::deform {
+namespace {
+
+struct Expected {
+  std::vector<std::uint32_t> points, border;
+};
+
+Expected brute_force(const PointModel& model, const std::vector<Vec3>& contacts, double radius, double inner) {
+  Expected e;
+  for (std::uint32_t i = 0; i < model.size(); ++i) {
+    bool inside = false, deep = false;
+    for (const Vec3& c : contacts) {
+      const double d = norm(model.position(i) - c);
+      inside = inside || d <= radius;
+      deep = deep || d <= inner;
+    }
+    if (inside) e.points.push_back(i);
+    if (inside && !deep) e.border.push_back(i);
+  }
+  return e;
+}
+
+TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
+  // 40,000 points: indices need two of the sort's 11-bit passes.
+  const PointModel model = make_sphere(40000);
+  const PointIndex index(model);
+  RegionSettings settings;
+  settings.kind = RegionSettings::Kind::kRadius;
+  settings.radius = 0.3;
+  const double bc_radius = 0.02;
+  Region region(settings, model, index, bc_radius);
+  // Two overlapping balls and one apart: overlapping points must appear once.
+  const std::vector<std::vector<Vec3>> frames = {
+      {model.position(100)},
+      {model.position(100), model.position(20000), model.position(20050), model.position(39000)},
+      {model.position(7)},
+  };
+  for (const std::vector<Vec3>& contacts : frames) {
+    region.build(model, index, 0.0, contacts);
+    const Expected e = brute_force(model, contacts, settings.radius, settings.radius - region.border_width());
+    ASSERT_FALSE(e.points.empty());
+    EXPECT_EQ(std::vector<std::uint32_t>(region.points().begin(), region.points().end()), e.points);
+    EXPECT_EQ(std::vector<std::uint32_t>(region.border().begin(), region.border().end()), e.border);
+  }
+}
+
+}  // namespace
+}  // namespace sculpt::deform
