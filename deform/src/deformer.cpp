@@ -34,6 +34,11 @@ std::size_t typical_patch_points(const PointModel& model, const PointIndex& inde
 // A source's nearest model point is at least this fraction of its distance to A.
 constexpr double kSourceAloneRatio = 0.5;
 
+// Points the index lists as moved since its snapshot (PointIndex::track_moved): a stroke's
+// regions between two rebuilds fit easily; beyond it (a global frame moves every point) queries
+// widen by the drift as before.
+constexpr std::size_t kMovedCapacity = std::size_t{1} << 16;
+
 void GuardSettings::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("deform guards: " + what); };
   if (!(clearance_ratio >= 0.0 && clearance_ratio <= 1e3)) fail("clearance ratio must lie in [0, 1000]");
@@ -94,6 +99,7 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   for (FrameReport& f : substeps_) f.contacts.resize(settings_.max_probes);
   sub_probes_.reserve(settings_.max_probes);
   journal_.reserve(n, model_.has_normals());
+  index_.track_moved(kMovedCapacity);
   centre_ = model_.bounding_box_centre();
   probe_range_ = settings_.guards.probe_range * std::max(model_.bounding_box_diagonal(), 1e-30);
   min_patch_points_ =
@@ -129,6 +135,7 @@ void Deformer::rebuild_index() {
 
 void Deformer::adopt_index(PointIndex& fresh, double drift_at_snapshot) noexcept {
   std::swap(index_, fresh);
+  index_.take_moved(fresh, model_);
   // Points moved since the snapshot by at most the displacements applied after it.
   drift_ = std::max(0.0, drift_ - drift_at_snapshot);
   index_holds_base_ = false;
@@ -154,6 +161,7 @@ void Deformer::restore(const PointModel& base) {
   std::copy(base.nz.begin(), base.nz.end(), model_.nz.begin());
   if (index_holds_base_) {
     drift_ = 0.0;
+    index_.forget_moved();
   } else {
     index_.rebuild(model_);
     drift_ = 0.0;
@@ -421,9 +429,13 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   //    that folds the material or yields a non-finite value is undone bit for bit.
   const FieldResult moved = apply_displacements(model_, settings_.kernel, forces_, region_.points(), region_.global(),
                                                 settings_.field, /*jacobian=*/true, &journal_, worker_.get());
+  // The index must hear of every position written, the undo's included (its exactness).
+  const auto positions_written = [&] { index_.note_moved(model_, region_.points(), region_.global()); };
+  positions_written();
   r.min_jacobian = moved.min_jacobian;
   if (!moved.finite) {
     journal_.restore(model_);
+    positions_written();
     r.rejected = true;
     ++r.guards.non_finite;
     keep_probes_outside(probes, r);
@@ -431,6 +443,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   }
   if (!(moved.min_jacobian > settings_.guards.min_jacobian)) {
     journal_.restore(model_);
+    positions_written();
     r.rejected = true;
     return Outcome::kFolded;
   }

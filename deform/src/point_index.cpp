@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "moved_overlay.hpp"
+
 namespace sculpt::deform {
 namespace {
 
@@ -31,15 +33,6 @@ double widened(double squared_bound) { return squared_bound * (1.0 + kRelativeSl
 double search_bound(double radius, double drift) {
   const double r = radius + drift;
   return widened(r * r);
-}
-
-// Squared distance from q to point i of the model at its current position. One function so
-// every exact test in this file uses the same arithmetic.
-inline double current_squared_distance(const PointModel& model, std::uint32_t i, const double* q) {
-  const double dx = static_cast<double>(model.x[i]) - q[0];
-  const double dy = static_cast<double>(model.y[i]) - q[1];
-  const double dz = static_cast<double>(model.z[i]) - q[2];
-  return dx * dx + dy * dy + dz * dz;
 }
 
 // The snapshot, interleaved xyz so a leaf scan touches one cache line per few points.
@@ -67,14 +60,17 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, Snapshot, 3, std::uint3
 
 // nanoflann result set for nearest(): tests each candidate at its current position and
 // shrinks the snapshot bound to (best current distance + drift) as better points turn up.
+// Points in `skip` (moved since the snapshot) are left to the moved list.
 class NearestCollector {
  public:
-  NearestCollector(const PointModel& model, const double* q, double drift) : model_(model), q_(q), drift_(drift) {}
+  NearestCollector(const PointModel& model, const double* q, double drift, const MovedOverlay* skip)
+      : model_(model), q_(q), drift_(drift), skip_(skip) {}
 
   std::size_t size() const { return best_index_ == PointIndex::kNoPoint ? 0 : 1; }
   bool full() const { return true; }
   double worstDist() const { return bound_; }  // NOLINT(readability-identifier-naming): nanoflann calls it
   bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {  // NOLINT(readability-identifier-naming)
+    if (skip_ != nullptr && skip_->contains(i)) return true;
     const double d2 = current_squared_distance(model_, i, q_);
     if (d2 < best_squared_ || (d2 == best_squared_ && i < best_index_)) {
       best_squared_ = d2;
@@ -91,6 +87,7 @@ class NearestCollector {
   const PointModel& model_;
   const double* q_;
   double drift_;
+  const MovedOverlay* skip_;
   double best_squared_ = std::numeric_limits<double>::infinity();
   std::uint32_t best_index_ = PointIndex::kNoPoint;
   double bound_ = std::numeric_limits<double>::infinity();
@@ -102,13 +99,19 @@ class NearestCollector {
 class RadiusCollector {
  public:
   RadiusCollector(const PointModel& model, const double* q, double radius, double drift,
-                  std::vector<std::uint32_t>& out)
-      : model_(model), q_(q), radius_squared_(radius * radius), bound_(search_bound(radius, drift)), out_(out) {}
+                  std::vector<std::uint32_t>& out, const MovedOverlay* skip)
+      : model_(model),
+        q_(q),
+        radius_squared_(radius * radius),
+        bound_(search_bound(radius, drift)),
+        out_(out),
+        skip_(skip) {}
 
   std::size_t size() const { return out_.size(); }
   bool full() const { return true; }
   double worstDist() const { return bound_; }  // NOLINT(readability-identifier-naming): nanoflann calls it
   bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {  // NOLINT(readability-identifier-naming)
+    if (skip_ != nullptr && skip_->contains(i)) return true;
     if (current_squared_distance(model_, i, q_) > radius_squared_) return true;
     if (out_.size() < out_.capacity()) {
       out_.push_back(i);
@@ -125,6 +128,7 @@ class RadiusCollector {
   double radius_squared_;
   double bound_;
   std::vector<std::uint32_t>& out_;
+  const MovedOverlay* skip_;
   bool truncated_ = false;
 };
 
@@ -167,6 +171,42 @@ void PointIndex::rebuild(const PointModel& model) {
     }
   }
   impl_->tree.buildIndex();
+  if (moved_) moved_->clear();
+}
+
+void PointIndex::track_moved(std::size_t capacity) { moved_ = std::make_unique<MovedOverlay>(size(), capacity); }
+
+void PointIndex::note_moved(const PointModel& model, std::span<const std::uint32_t> points, bool all) noexcept {
+  if (!moved_) return;
+  if (all) {
+    moved_->note_all();
+  } else {
+    moved_->note(model, points);
+  }
+}
+
+void PointIndex::forget_moved() noexcept {
+  if (moved_) moved_->clear();
+}
+
+void PointIndex::take_moved(PointIndex& previous, const PointModel& model) noexcept {
+  std::swap(moved_, previous.moved_);
+  if (!moved_ || !indexes(model)) return;
+  const std::vector<float>& xyz = impl_->points.xyz;
+  moved_->retain(model, [&](std::uint32_t i) {
+    const std::size_t k = 3 * static_cast<std::size_t>(i);
+    return model.x[i] != xyz[k] || model.y[i] != xyz[k + 1] || model.z[i] != xyz[k + 2];
+  });
+}
+
+std::size_t PointIndex::moved_count() const noexcept { return moved_ ? moved_->size() : 0; }
+
+std::size_t PointIndex::moved_capacity() const noexcept { return moved_ ? moved_->capacity() : 0; }
+
+bool PointIndex::moved_complete() const noexcept { return moved_ && moved_->complete(); }
+
+const MovedOverlay* PointIndex::usable_moved() const noexcept {
+  return moved_ && moved_->complete() ? moved_.get() : nullptr;
 }
 
 std::size_t PointIndex::size() const { return impl_ ? impl_->points.kdtree_get_point_count() : 0; }
@@ -178,13 +218,19 @@ bool PointIndex::indexes(const PointModel& model) const noexcept {
 PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q, double drift) const noexcept {
   if (size() == 0 || !indexes(model)) return {kNoPoint, std::numeric_limits<double>::infinity()};
   const double query[3] = {q.x, q.y, q.z};
-  NearestCollector collector(model, query, std::max(drift, 0.0));
+  // With the moved points listed, the tree holds the others at their snapshot positions: no
+  // widening, and the list answers for the moved ones.
+  const MovedOverlay* moved = usable_moved();
+  NearestCollector collector(model, query, moved != nullptr ? 0.0 : std::max(drift, 0.0), moved);
   impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
-  if (collector.best_index() == kNoPoint) {
+  std::uint32_t best = collector.best_index();
+  double best_squared = collector.best_squared();
+  if (moved != nullptr) moved->nearest(model, query, best, best_squared);
+  if (best == kNoPoint) {
     // Only reachable with a non-finite query: every comparison failed.
     return {kNoPoint, std::numeric_limits<double>::infinity()};
   }
-  return {collector.best_index(), std::sqrt(collector.best_squared())};
+  return {best, std::sqrt(best_squared)};
 }
 
 bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double radius, std::vector<std::uint32_t>& out,
@@ -193,12 +239,15 @@ bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double ra
   if (!indexes(model) && !(size() == 0 && model.empty())) return false;
   if (size() == 0 || !(radius >= 0.0)) return true;
   const double query[3] = {q.x, q.y, q.z};
-  RadiusCollector collector(model, query, radius, std::max(drift, 0.0), out);
+  const MovedOverlay* moved = usable_moved();
+  RadiusCollector collector(model, query, radius, moved != nullptr ? 0.0 : std::max(drift, 0.0), out, moved);
   impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
+  bool complete = !collector.truncated();
+  if (moved != nullptr) complete = moved->within_radius(model, query, radius * radius, out) && complete;
   // Tree order is spatial; callers want index order (stable, cache-friendly writes). std::sort
   // works in place, so this stays allocation-free.
   if (ascending) std::sort(out.begin(), out.end());
-  return !collector.truncated();
+  return complete;
 }
 
 void PointIndex::k_nearest(const Vec3& q, std::size_t k, std::vector<std::uint32_t>& indices,

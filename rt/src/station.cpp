@@ -241,7 +241,13 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
   totals_.guards += frame.guards;
   report_.guards = frame.guards;
   report_.min_jacobian = frame.min_jacobian;
-  if (deformer_.drift() > rebuild_drift_) rebuilder_.request(deformer_.model(), deformer_.drift());
+  // A fresh snapshot when the points have drifted, or when the index's list of moved points
+  // (which keeps its queries exact without widening) is half full.
+  const deform::PointIndex& index = deformer_.index();
+  if (deformer_.drift() > rebuild_drift_ ||
+      (index.moved_complete() && 2 * index.moved_count() > index.moved_capacity())) {
+    rebuilder_.request(deformer_.model(), deformer_.drift());
+  }
   for (std::size_t k = 0; k < probes_.size(); ++k) {
     const deform::ContactReport& c = frame.contacts[k];
     FingerState& f = fingers_[probe_finger_[k]];

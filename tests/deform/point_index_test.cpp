@@ -1,4 +1,5 @@
 #include "sculpt/deform/point_index.hpp"
+#include "sculpt/deform/generators.hpp"
 
 #include <gtest/gtest.h>
 
@@ -394,6 +395,204 @@ TEST(PointIndex, ConcurrentReadersAgreeWithTheOracle) {
   }
   for (std::thread& r : readers) r.join();
   for (int t = 0; t < 4; ++t) EXPECT_EQ(failures[t], 0) << "reader " << t;
+}
+
+// --- the moved list (track_moved): with it, queries passed no drift at all must still be exact
+// on a model deformed stroke after stroke; without it, the same strokes and queries must be
+// seen going wrong, so these checks can fail ---
+
+// The definition: the closest current position, ties to the smallest index.
+PointIndex::Nearest brute_nearest(const PointModel& m, const Vec3& q) {
+  std::uint32_t best = PointIndex::kNoPoint;
+  double best_squared = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const double d2 = squared_distance(m, i, q);
+    if (d2 < best_squared) {
+      best_squared = d2;
+      best = static_cast<std::uint32_t>(i);
+    }
+  }
+  return {best, std::sqrt(best_squared)};
+}
+
+// The sphere with its first 300 points repeated, so that nearest() meets exact ties.
+PointModel sphere_with_ties() {
+  PointModel m = make_sphere(20000);
+  for (std::size_t i = 0; i < 300; ++i) m.push_back(m.position(i));
+  return m;
+}
+
+// One "frame": the points within `radius` of a random model point are pushed inward by up to
+// `depth` (a smooth bump), and the index is told which ones were written. Returns them.
+std::vector<std::uint32_t> press(PointModel& m, PointIndex& index, std::mt19937& rng, double radius, double depth) {
+  std::uniform_int_distribution<std::size_t> pick(0, m.size() - 1);
+  const Vec3 centre = m.position(pick(rng));
+  std::vector<std::uint32_t> moved;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const double r2 = squared_distance(m, i, centre) / (radius * radius);
+    if (r2 >= 1.0) continue;
+    const Vec3 p = m.position(i);
+    m.set_position(i, p - normalized(p) * (depth * (1.0 - r2)) + Vec3{0.3, 0.0, 0.1} * (depth * (1.0 - r2)));
+    moved.push_back(static_cast<std::uint32_t>(i));
+  }
+  index.note_moved(m, moved, false);
+  return moved;
+}
+
+// Queries near the moved points and at random, all answered with drift 0.
+struct Misses {
+  int nearest = 0, within = 0, queries = 0;
+};
+
+Misses check_queries(const PointModel& m, const PointIndex& index, std::mt19937& rng,
+                     const std::vector<std::uint32_t>& near) {
+  std::uniform_real_distribution<double> jitter(-0.03, 0.03);
+  std::uniform_int_distribution<std::size_t> pick(0, near.size() - 1);
+  std::vector<std::uint32_t> found;
+  found.reserve(kOutCapacity);
+  Misses misses;
+  for (int k = 0; k < 60; ++k) {
+    const Vec3 q = m.position(near[pick(rng)]) + Vec3{jitter(rng), jitter(rng), jitter(rng)};
+    const PointIndex::Nearest got = index.nearest(m, q, 0.0);
+    const PointIndex::Nearest want = brute_nearest(m, q);
+    misses.nearest += got.index != want.index || got.distance != want.distance;
+    EXPECT_TRUE(index.within_radius(m, q, 0.06, found, 0.0));
+    misses.within += found != oracle_within(m, q, 0.06);
+    ++misses.queries;
+  }
+  return misses;
+}
+
+TEST(MovedPointsIndex, QueriesWithNoDriftStayExactStrokeAfterStroke) {
+  PointModel m = sphere_with_ties();
+  PointIndex index(m);
+  index.track_moved(1 << 16);
+  std::mt19937 rng(7);
+  int nearest_misses = 0, within_misses = 0;
+  for (int frame = 0; frame < 40; ++frame) {
+    const std::vector<std::uint32_t> moved = press(m, index, rng, 0.12, 0.03);
+    ASSERT_FALSE(moved.empty());
+    ASSERT_TRUE(index.moved_complete());
+    const Misses misses = check_queries(m, index, rng, moved);
+    nearest_misses += misses.nearest;
+    within_misses += misses.within;
+  }
+  EXPECT_EQ(nearest_misses, 0);
+  EXPECT_EQ(within_misses, 0);
+  EXPECT_GT(index.moved_count(), 0u);
+}
+
+TEST(MovedPointsIndex, WithoutTheListTheSameStrokesNeedTheDrift) {
+  // The control: the same strokes and queries on an index without the list, passed no drift,
+  // give wrong answers, so the test above would see a list that does not work.
+  PointModel m = sphere_with_ties();
+  PointIndex index(m);
+  std::mt19937 rng(7);
+  int misses = 0;
+  for (int frame = 0; frame < 40; ++frame) {
+    const std::vector<std::uint32_t> moved = press(m, index, rng, 0.12, 0.03);
+    const Misses found = check_queries(m, index, rng, moved);
+    misses += found.nearest + found.within;
+  }
+  EXPECT_GT(misses, 0);
+  EXPECT_FALSE(index.moved_complete());
+}
+
+TEST(MovedPointsIndex, AnOverflowingListFallsBackOnTheDrift) {
+  PointModel m = sphere_with_ties();
+  PointIndex index(m);
+  index.track_moved(50);  // far fewer than one press moves
+  std::mt19937 rng(11);
+  double drift = 0.0;
+  for (int frame = 0; frame < 10; ++frame) {
+    const PointModel before = m;
+    const std::vector<std::uint32_t> moved = press(m, index, rng, 0.12, 0.03);
+    for (std::uint32_t i : moved) drift = std::max(drift, norm(m.position(i) - before.position(i)));
+  }
+  EXPECT_FALSE(index.moved_complete());
+  // Exact again with the drift, as without a list. (The drift summed over frames bounds every
+  // point's distance from its snapshot position; the largest single move is used here, times
+  // the frames, which is such a sum.)
+  std::vector<std::uint32_t> found;
+  found.reserve(kOutCapacity);
+  const double bound = 10.0 * drift;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 q = m.position(static_cast<std::size_t>(k) * 97 % m.size());
+    const PointIndex::Nearest got = index.nearest(m, q, bound);
+    const PointIndex::Nearest want = brute_nearest(m, q);
+    EXPECT_EQ(got.index, want.index);
+    EXPECT_TRUE(index.within_radius(m, q, 0.05, found, bound));
+    EXPECT_EQ(found, oracle_within(m, q, 0.05));
+  }
+  // A snapshot of the positions as they are now clears it.
+  index.rebuild(m);
+  EXPECT_TRUE(index.moved_complete());
+  EXPECT_EQ(index.moved_count(), 0u);
+}
+
+TEST(MovedPointsIndex, ASwappedInIndexKeepsOnlyThePointsMovedSinceItsSnapshot) {
+  // As the station's rebuilder does: a snapshot is taken mid-stroke, built elsewhere, more
+  // frames run on the old index, then the new one is swapped in and takes over the list.
+  PointModel m = sphere_with_ties();
+  PointIndex index(m);
+  index.track_moved(1 << 16);
+  std::mt19937 rng(3);
+  for (int frame = 0; frame < 10; ++frame) press(m, index, rng, 0.12, 0.03);
+  const PointModel snapshot = m;
+  PointIndex fresh(snapshot);
+  std::vector<std::uint32_t> last;
+  for (int frame = 0; frame < 5; ++frame) last = press(m, index, rng, 0.12, 0.03);
+
+  std::swap(index, fresh);
+  index.take_moved(fresh, m);
+  ASSERT_TRUE(index.moved_complete());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    differ += m.x[i] != snapshot.x[i] || m.y[i] != snapshot.y[i] || m.z[i] != snapshot.z[i];
+  }
+  EXPECT_EQ(index.moved_count(), differ);
+  EXPECT_GT(differ, 0u);
+  EXPECT_EQ(fresh.moved_count(), 0u);  // the old tree, to be freed, holds no list any more
+
+  int misses = 0;
+  for (int frame = 0; frame < 10; ++frame) {
+    last = press(m, index, rng, 0.12, 0.03);
+    const Misses found = check_queries(m, index, rng, last);
+    misses += found.nearest + found.within;
+  }
+  EXPECT_EQ(misses, 0);
+}
+
+TEST(MovedPointsIndex, AnUndoneFrameIsToldAndStaysExact) {
+  // An undo writes old positions back: the points keep their place in the list (it only ever
+  // covers), and queries near both the undone and the kept positions stay exact.
+  PointModel m = sphere_with_ties();
+  PointIndex index(m);
+  index.track_moved(1 << 16);
+  std::mt19937 rng(5);
+  int misses = 0;
+  for (int frame = 0; frame < 20; ++frame) {
+    const PointModel before = m;
+    const std::vector<std::uint32_t> moved = press(m, index, rng, 0.15, 0.05);
+    if (frame % 2 == 0) {
+      for (std::uint32_t i : moved) m.set_position(i, before.position(i));
+      index.note_moved(m, moved, false);
+    }
+    const Misses found = check_queries(m, index, rng, moved);
+    misses += found.nearest + found.within;
+  }
+  EXPECT_EQ(misses, 0);
+  // Every point back where the snapshot had it: forgetting the list keeps the queries exact.
+  const PointModel base = sphere_with_ties();
+  m = base;
+  index.note_moved(m, {}, true);
+  EXPECT_FALSE(index.moved_complete());
+  index.forget_moved();
+  EXPECT_TRUE(index.moved_complete());
+  std::vector<std::uint32_t> all(m.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
+  const Misses found = check_queries(m, index, rng, all);
+  EXPECT_EQ(found.nearest + found.within, 0);
 }
 
 }  // namespace

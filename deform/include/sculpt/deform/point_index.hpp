@@ -5,12 +5,15 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/deform/vec3.hpp"
 
 namespace sculpt::deform {
+
+class MovedOverlay;
 
 /// Spatial index over a snapshot of a PointModel's positions.
 ///
@@ -83,9 +86,35 @@ class PointIndex {
   void k_nearest(const Vec3& q, std::size_t k, std::vector<std::uint32_t>& indices,
                  std::vector<double>& squared_distances) const;
 
+  /// The moved list: with it, the index keeps the points that moved since its snapshot (up to
+  /// `capacity` of them) and queries need no drift at all: the tree answers for the points
+  /// still at their snapshot positions, the list for the moved ones at their current positions,
+  /// so a query costs what the neighbourhood holds, not what the drift covers. While the list
+  /// is complete, the `drift` passed to queries is not used; once more points moved than it
+  /// holds (or note_moved said all did), queries widen by `drift` as without it, until a
+  /// rebuild() or forget_moved() (an index swapped in by take_moved() stays so). Set-up:
+  /// allocates (4 bytes per model point and 4 per slot).
+  void track_moved(std::size_t capacity);
+  /// Every write to the indexed model's positions must be told here, with the points written
+  /// (`all`: every point may have moved). Exactness depends on it. noexcept, allocation-free.
+  void note_moved(const PointModel& model, std::span<const std::uint32_t> points, bool all) noexcept;
+  /// The model's positions equal the snapshot again (an undo to the positions it was built on).
+  void forget_moved() noexcept;
+  /// After this index was swapped in for `previous` (built from a snapshot taken after every
+  /// point outside previous's list last moved): takes over previous's list and keeps of it only
+  /// the points that differ from this snapshot. noexcept, allocation-free.
+  void take_moved(PointIndex& previous, const PointModel& model) noexcept;
+  /// Points listed as moved since the snapshot (0 without a list), and how many it can hold.
+  std::size_t moved_count() const noexcept;
+  std::size_t moved_capacity() const noexcept;
+  /// Whether a list is kept and complete, so queries do not depend on the drift.
+  bool moved_complete() const noexcept;
+
  private:
+  const MovedOverlay* usable_moved() const noexcept;
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  std::unique_ptr<MovedOverlay> moved_;
 };
 
 }  // namespace sculpt::deform

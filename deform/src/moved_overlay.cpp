@@ -1,0 +1,101 @@
+#include "moved_overlay.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace sculpt::deform {
+
+MovedOverlay::MovedOverlay(std::size_t model_size, std::size_t capacity)
+    : slot_(model_size, 0), ids_(std::min(capacity, model_size)), boxes_((ids_.size() + kBlock - 1) / kBlock) {
+  reset_boxes();
+}
+
+void MovedOverlay::reset_boxes() noexcept {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  for (Box& b : boxes_) b = Box{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
+}
+
+void MovedOverlay::add(const PointModel& model, std::uint32_t i) noexcept {
+  std::size_t s = slot_[i];
+  if (s == 0) {
+    if (count_ == ids_.size()) {
+      overflowed_ = true;
+      return;
+    }
+    ids_[count_] = i;
+    slot_[i] = static_cast<std::uint32_t>(++count_);
+    s = count_;
+  }
+  Box& b = boxes_[(s - 1) / kBlock];
+  const float p[3] = {model.x[i], model.y[i], model.z[i]};
+  for (int d = 0; d < 3; ++d) {
+    b.low[d] = std::min(b.low[d], p[d]);
+    b.high[d] = std::max(b.high[d], p[d]);
+  }
+}
+
+void MovedOverlay::note(const PointModel& model, std::span<const std::uint32_t> points) noexcept {
+  for (std::uint32_t i : points) add(model, i);
+}
+
+void MovedOverlay::clear() noexcept {
+  for (std::size_t s = 0; s < count_; ++s) slot_[ids_[s]] = 0;
+  count_ = 0;
+  overflowed_ = false;
+  reset_boxes();
+}
+
+double MovedOverlay::box_squared_distance(const Box& b, const double* q) noexcept {
+  // Rounding is monotone, so for a point inside the box each gap computed here is at most that
+  // point's |x - q| computed by current_squared_distance, and so is the sum of their squares:
+  // a block is skipped only when none of its points can tie the bound.
+  double sum = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    const double low = b.low[d], high = b.high[d];
+    double gap = 0.0;
+    if (q[d] < low) {
+      gap = low - q[d];
+    } else if (q[d] > high) {
+      gap = q[d] - high;
+    }
+    sum += gap * gap;
+  }
+  return sum;
+}
+
+void MovedOverlay::nearest(const PointModel& model, const double* q, std::uint32_t& best,
+                           double& best_squared) const noexcept {
+  for (std::size_t first = 0; first < count_; first += kBlock) {
+    if (box_squared_distance(boxes_[first / kBlock], q) > best_squared) continue;
+    const std::size_t last = std::min(first + kBlock, count_);
+    for (std::size_t s = first; s < last; ++s) {
+      const std::uint32_t i = ids_[s];
+      const double d2 = current_squared_distance(model, i, q);
+      if (d2 < best_squared || (d2 == best_squared && i < best)) {
+        best_squared = d2;
+        best = i;
+      }
+    }
+  }
+}
+
+bool MovedOverlay::within_radius(const PointModel& model, const double* q, double radius_squared,
+                                 std::vector<std::uint32_t>& out) const noexcept {
+  bool complete = true;
+  for (std::size_t first = 0; first < count_; first += kBlock) {
+    if (box_squared_distance(boxes_[first / kBlock], q) > radius_squared) continue;
+    const std::size_t last = std::min(first + kBlock, count_);
+    for (std::size_t s = first; s < last; ++s) {
+      const std::uint32_t i = ids_[s];
+      if (current_squared_distance(model, i, q) > radius_squared) continue;
+      if (out.size() < out.capacity()) {
+        out.push_back(i);
+      } else {
+        complete = false;
+      }
+    }
+  }
+  return complete;
+}
+
+}  // namespace sculpt::deform

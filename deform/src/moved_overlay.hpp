@@ -1,0 +1,91 @@
+#pragma once
+// The points that moved since a k-d tree's snapshot, kept beside the tree so that its queries
+// need no widening by the drift: the tree answers exactly for the points still at their
+// snapshot positions, this list for the others, at their current positions.
+//
+// Why: widening by the drift makes every query near a finger visit every point within the
+// drift of it. On a dense scan that is thousands of points per query once a press has gone a
+// few spacings deep (a two-million-point sphere: 41 % of the loop's time was such queries),
+// and the rebuild that would reset the drift takes a second or more at that size.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "sculpt/deform/point_model.hpp"
+
+namespace sculpt::deform {
+
+/// Squared distance from q to point i of the model at its current position, in double. The one
+/// function every exact test of the index uses, so the tree and this list agree on ties.
+inline double current_squared_distance(const PointModel& model, std::uint32_t i, const double* q) noexcept {
+  const double dx = static_cast<double>(model.x[i]) - q[0];
+  const double dy = static_cast<double>(model.y[i]) - q[1];
+  const double dz = static_cast<double>(model.z[i]) - q[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+class MovedOverlay {
+ public:
+  /// Room for `capacity` moved points of a model of `model_size` points. Allocates.
+  MovedOverlay(std::size_t model_size, std::size_t capacity);
+
+  /// `points` may have new positions now (read from the model at query time). A point beyond
+  /// the capacity overflows the list: it is then incomplete until clear().
+  void note(const PointModel& model, std::span<const std::uint32_t> points) noexcept;
+  /// Every point may have moved (a global frame): the list is incomplete until clear().
+  void note_all() noexcept { overflowed_ = true; }
+  /// The snapshot equals the model again: nothing has moved.
+  void clear() noexcept;
+  /// A new snapshot was taken (after every point outside this list last moved): keeps only the
+  /// listed points for which `differs(i)` (the current position is not the snapshot's).
+  template <class Differs>
+  void retain(const PointModel& model, Differs differs) noexcept {
+    if (overflowed_) return;  // who moved is not known: stays incomplete
+    std::size_t kept = 0;
+    for (std::size_t s = 0; s < count_; ++s) {
+      const std::uint32_t i = ids_[s];
+      slot_[i] = 0;
+      if (differs(i)) ids_[kept++] = i;
+    }
+    count_ = 0;
+    reset_boxes();
+    const std::size_t listed = kept;
+    for (std::size_t s = 0; s < listed; ++s) add(model, ids_[s]);
+  }
+
+  /// Whether every moved point is listed (otherwise queries must fall back on the drift).
+  bool complete() const noexcept { return !overflowed_; }
+  bool contains(std::uint32_t i) const noexcept { return slot_[i] != 0; }
+  std::size_t size() const noexcept { return count_; }
+  std::size_t capacity() const noexcept { return ids_.size(); }
+
+  /// Improves (best, best_squared) with the listed points at their current positions: a point
+  /// wins when closer, or as close with a smaller index.
+  void nearest(const PointModel& model, const double* q, std::uint32_t& best, double& best_squared) const noexcept;
+  /// Appends the listed points within sqrt(radius_squared) of q (current positions) to `out`,
+  /// within its capacity; false when one did not fit.
+  bool within_radius(const PointModel& model, const double* q, double radius_squared,
+                     std::vector<std::uint32_t>& out) const noexcept;
+
+ private:
+  // Slots in blocks of this many, each with a box around its points' positions since they were
+  // listed (it only grows, so it covers every position a listed point has had): a query skips
+  // a block whose box is farther than its bound.
+  static constexpr std::size_t kBlock = 32;
+  struct Box {
+    float low[3], high[3];
+  };
+  void add(const PointModel& model, std::uint32_t i) noexcept;
+  void reset_boxes() noexcept;
+  static double box_squared_distance(const Box& b, const double* q) noexcept;
+
+  std::vector<std::uint32_t> slot_;  // per model point: its slot + 1, or 0 when not listed
+  std::vector<std::uint32_t> ids_;   // the listed points, slot order
+  std::vector<Box> boxes_;           // one per block of kBlock slots
+  std::size_t count_ = 0;
+  bool overflowed_ = false;
+};
+
+}  // namespace sculpt::deform
