@@ -6,7 +6,10 @@
 namespace sculpt::deform {
 
 MovedOverlay::MovedOverlay(std::size_t model_size, std::size_t capacity)
-    : slot_(model_size, 0), ids_(std::min(capacity, model_size)), boxes_((ids_.size() + kBlock - 1) / kBlock) {
+    : slot_(model_size, 0),
+      listed_((model_size + 63) / 64, 0),
+      ids_(std::min(capacity, model_size)),
+      boxes_((ids_.size() + kBlock - 1) / kBlock) {
   reset_boxes();
 }
 
@@ -24,6 +27,7 @@ void MovedOverlay::add(const PointModel& model, std::uint32_t i) noexcept {
     }
     ids_[count_] = i;
     slot_[i] = static_cast<std::uint32_t>(++count_);
+    listed_[i / 64] |= std::uint64_t{1} << (i % 64);
     s = count_;
   }
   Box& b = boxes_[(s - 1) / kBlock];
@@ -39,7 +43,11 @@ void MovedOverlay::note(const PointModel& model, std::span<const std::uint32_t> 
 }
 
 void MovedOverlay::clear() noexcept {
-  for (std::size_t s = 0; s < count_; ++s) slot_[ids_[s]] = 0;
+  for (std::size_t s = 0; s < count_; ++s) {
+    const std::uint32_t i = ids_[s];
+    slot_[i] = 0;
+    listed_[i / 64] &= ~(std::uint64_t{1} << (i % 64));
+  }
   count_ = 0;
   overflowed_ = false;
   reset_boxes();

@@ -17,13 +17,18 @@
 
 namespace sculpt::deform {
 
-/// Squared distance from q to point i of the model at its current position, in double. The one
-/// function every exact test of the index uses, so the tree and this list agree on ties.
-inline double current_squared_distance(const PointModel& model, std::uint32_t i, const double* q) noexcept {
-  const double dx = static_cast<double>(model.x[i]) - q[0];
-  const double dy = static_cast<double>(model.y[i]) - q[1];
-  const double dz = static_cast<double>(model.z[i]) - q[2];
+/// Squared distance from q to the point (x, y, z), in double. The one formula every exact test
+/// of the index uses, so that the tree and this list agree on ties.
+inline double squared_distance_to(float x, float y, float z, const double* q) noexcept {
+  const double dx = static_cast<double>(x) - q[0];
+  const double dy = static_cast<double>(y) - q[1];
+  const double dz = static_cast<double>(z) - q[2];
   return dx * dx + dy * dy + dz * dz;
+}
+
+/// Squared distance from q to point i of the model at its current position.
+inline double current_squared_distance(const PointModel& model, std::uint32_t i, const double* q) noexcept {
+  return squared_distance_to(model.x[i], model.y[i], model.z[i], q);
 }
 
 class MovedOverlay {
@@ -47,6 +52,7 @@ class MovedOverlay {
     for (std::size_t s = 0; s < count_; ++s) {
       const std::uint32_t i = ids_[s];
       slot_[i] = 0;
+      listed_[i / 64] &= ~(std::uint64_t{1} << (i % 64));
       if (differs(i)) ids_[kept++] = i;
     }
     count_ = 0;
@@ -57,7 +63,7 @@ class MovedOverlay {
 
   /// Whether every moved point is listed (otherwise queries must fall back on the drift).
   bool complete() const noexcept { return !overflowed_; }
-  bool contains(std::uint32_t i) const noexcept { return slot_[i] != 0; }
+  bool contains(std::uint32_t i) const noexcept { return (listed_[i / 64] >> (i % 64)) & 1u; }
   std::size_t size() const noexcept { return count_; }
   std::size_t capacity() const noexcept { return ids_.size(); }
 
@@ -81,9 +87,10 @@ class MovedOverlay {
   void reset_boxes() noexcept;
   static double box_squared_distance(const Box& b, const double* q) noexcept;
 
-  std::vector<std::uint32_t> slot_;  // per model point: its slot + 1, or 0 when not listed
-  std::vector<std::uint32_t> ids_;   // the listed points, slot order
-  std::vector<Box> boxes_;           // one per block of kBlock slots
+  std::vector<std::uint32_t> slot_;    // per model point: its slot + 1, or 0 when not listed
+  std::vector<std::uint64_t> listed_;  // the same as bits (what a query reads: 1/32 the memory)
+  std::vector<std::uint32_t> ids_;     // the listed points, slot order
+  std::vector<Box> boxes_;             // one per block of kBlock slots
   std::size_t count_ = 0;
   bool overflowed_ = false;
 };

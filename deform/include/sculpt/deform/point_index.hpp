@@ -90,11 +90,13 @@ class PointIndex {
   /// `capacity` of them) and queries need no drift at all: the tree answers for the points
   /// still at their snapshot positions, the list for the moved ones at their current positions,
   /// so a query costs what the neighbourhood holds, not what the drift covers. While the list
-  /// is complete, the `drift` passed to queries is not used; once more points moved than it
+  /// is complete (and the drift is above min_drift), the `drift` passed is not used; once more points moved than it
   /// holds (or note_moved said all did), queries widen by `drift` as without it, until a
   /// rebuild() or forget_moved() (an index swapped in by take_moved() stays so). Set-up:
   /// allocates (4 bytes per model point and 4 per slot).
-  void track_moved(std::size_t capacity);
+  /// The list is consulted only when the drift passed is at least `min_drift`: below it, widening
+  /// costs less than scanning the list (a frame's own moves are small; a stroke's are not).
+  void track_moved(std::size_t capacity, double min_drift = 0.0);
   /// Every write to the indexed model's positions must be told here, with the points written
   /// (`all`: every point may have moved). Exactness depends on it. noexcept, allocation-free.
   void note_moved(const PointModel& model, std::span<const std::uint32_t> points, bool all) noexcept;
@@ -111,10 +113,11 @@ class PointIndex {
   bool moved_complete() const noexcept;
 
  private:
-  const MovedOverlay* usable_moved() const noexcept;
+  const MovedOverlay* usable_moved(double drift) const noexcept;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::unique_ptr<MovedOverlay> moved_;
+  double moved_min_drift_ = 0.0;
 };
 
 }  // namespace sculpt::deform
