@@ -9,8 +9,6 @@ extern "C" {
 #include <stdexcept>
 #include <string>
 
-#include "sculpt/deform/face_orientation.hpp"
-
 namespace sculpt::tools::check {
 
 using deform::Vec3;
@@ -103,19 +101,6 @@ SurfaceMesh sheet_mesh(const deform::PointModel& model, const Vec3& outside) {
       throw std::runtime_error("Qhull gave a triangle of " + std::to_string(ids.size()) + " vertices");
     push_oriented(mesh.triangles, model, ids[0], ids[1], ids[2], n);
   });
-  mesh.unused_points = count_unused(mesh.triangles, model.size());
-  return mesh;
-}
-
-SurfaceMesh file_mesh(const deform::PointModel& model) {
-  deform::PointModel copy;
-  copy.x = model.x;  // orient_faces reads positions and indices only
-  copy.y = model.y;
-  copy.z = model.z;
-  copy.triangles = model.triangles;
-  deform::orient_faces(copy);
-  SurfaceMesh mesh;
-  mesh.triangles = std::move(copy.triangles);
   mesh.unused_points = count_unused(mesh.triangles, model.size());
   return mesh;
 }

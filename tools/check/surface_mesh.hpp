@@ -1,7 +1,7 @@
 #pragma once
 // Surface meshes for the mesh oracle (mesh_side.hpp), made from the undeformed points without
 // the deformer's help: the convex hull of a convex shape's points, the Delaunay triangulation of
-// a sheet in its plane, a scan's own faces wound consistently. Each is an index list into the
+// a sheet in its plane. Each is an index list into the
 // model's points, so the same connectivity carries the deformed points.
 
 #include <cstddef>
@@ -27,9 +27,5 @@ SurfaceMesh convex_hull_mesh(const deform::PointModel& model);
 /// `outside`, every triangle wound so that its normal has a positive component along `outside`.
 /// For a sheet whose points lie (nearly) in that plane. Throws std::runtime_error when Qhull fails.
 SurfaceMesh sheet_mesh(const deform::PointModel& model, const deform::Vec3& outside);
-
-/// The model's own triangles, rewound where they disagree with their neighbours
-/// (deform::orient_faces keeps each piece's majority winding, which is the file's outside).
-SurfaceMesh file_mesh(const deform::PointModel& model);
 
 }  // namespace sculpt::tools::check
