@@ -73,7 +73,7 @@ PlaneSide StrokeRunner::surface(const Vec3& q) {
 
 void StrokeRunner::place(std::span<const Vec3> positions) {
   fingers_.clear();
-  for (const Vec3& p : positions) fingers_.push_back({p, std::nullopt});
+  for (const Vec3& p : positions) fingers_.push_back({p, std::nullopt, std::nullopt});
 }
 
 bool StrokeRunner::model_finite() const {
@@ -102,7 +102,7 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
     side_before_[f] = surface(targets[f]).side;
     previous_side_[f] = surface(g.accepted).side;
     judged_before_[f] = has_mesh() ? mesh_surface(targets[f]).side : side_before_[f];
-    judged_previous_[f] = has_mesh() ? mesh_surface(g.accepted).side : previous_side_[f];
+    judged_previous_[f] = !has_mesh() ? previous_side_[f] : g.mesh_side ? *g.mesh_side : mesh_surface(g.accepted).side;
   }
 
   const deform::FrameReport& report = deformer_.deform(motions_);
@@ -183,6 +183,7 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
     }
     fingers_[f].earlier = fingers_[f].accepted;
     fingers_[f].accepted = after;
+    fingers_[f].mesh_side = mesh ? std::optional<double>(mesh->side) : std::nullopt;
   }
 }
 

@@ -94,6 +94,9 @@ class StrokeRunner {
   struct Finger {
     deform::Vec3 accepted;
     std::optional<deform::Vec3> earlier;
+    // The mesh oracle's side of `accepted` on the model as the last frame left it, which is the
+    // model the next frame starts from: a third of the mesh queries saved. Unset after place().
+    std::optional<double> mesh_side;
   };
   static deform::DeformSettings settings_for(const deform::PointModel& model, const CaseSettings& s);
   bool model_finite() const;
