@@ -13,7 +13,7 @@ ROOT="$(cd -- "$SCRIPT_DIR/.." && pwd -P)"
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git
-  libeigen3-dev libnanoflann-dev
+  libeigen3-dev libnanoflann-dev libqhull-dev
   liblcm-dev liblcm-bin libglib2.0-dev
   libusb-1.0-0-dev
   libtomlplusplus-dev libcli11-dev libspdlog-dev libstb-dev nlohmann-json3-dev

@@ -35,6 +35,7 @@ json case_json(const check::CaseResult& r) {
   return {{"name", c.name},
           {"group", c.group},
           {"stroke", c.stroke},
+          {"oracle", c.oracle()},
           {"settings",
            {{"nu", s.poisson_ratio},
             {"G", s.shear_modulus},
@@ -55,6 +56,10 @@ json case_json(const check::CaseResult& r) {
           {"min_jacobian", number(m.min_jacobian)},
           {"max_miss", number(m.max_miss)},
           {"deepest_after", number(m.deepest)},
+          // The PCA plane's verdicts beside the mesh oracle's: diagnostics, not must-be-zero.
+          {"pca_probe_inside", m.pca_probe_inside},
+          {"pca_passed_through", m.pca_passed_through},
+          {"pca_deepest_after", number(m.pca_deepest)},
           {"guards", guards_json(m.guards)},
           {"invariants",
            {{"G", optional_number(r.g_deviation)},

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # sculpt check --quick as CI runs it: exit status 0, and every case in the JSON with its
-# must-be-zero counts at zero (non_finite, probe_inside, passed_through).
+# must-be-zero counts at zero (non_finite, probe_inside, passed_through: the judging oracle's,
+# the mesh's where the case has one), and the PCA plane's diagnostics beside them.
 # Usage: SCULPT=path/to/sculpt sculpt_check_test.sh   (ctest sets SCULPT)
 set -uo pipefail
 : "${SCULPT:?set SCULPT to the sculpt binary}"
@@ -25,7 +26,8 @@ for c in cases:
     for key in ("non_finite", "probe_inside", "passed_through"):
         if c[key] != 0:
             bad.append(f"{c['name']}: {key} = {c[key]}")
-    for key in ("max_condition", "max_relative_residual", "max_displacement_ratio", "min_jacobian", "max_miss", "guards"):
+    for key in ("max_condition", "max_relative_residual", "max_displacement_ratio", "min_jacobian", "max_miss", "guards",
+                "oracle", "pca_probe_inside", "pca_passed_through"):
         if key not in c:
             bad.append(f"{c['name']}: no {key}")
 if doc["summary"]["cases"] != len(cases):

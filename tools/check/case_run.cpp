@@ -37,7 +37,7 @@ CaseResult run_case(const CaseSpec& spec, const Tolerances& tol) {
   result.tolerance = spec.stroke ? tol.stroke : tol.single_frame;
   const Similarity frame = Similarity::scaling(spec.settings.scale);
 
-  StrokeRunner base(*spec.model, spec.outside, spec.settings, frame);
+  StrokeRunner base(*spec.model, spec.outside, spec.settings, frame, spec.mesh ? &spec.mesh->triangles : nullptr);
   spec.drive(base);
   result.metrics = base.metrics();
   const Metrics& m = result.metrics;
@@ -53,6 +53,7 @@ CaseResult run_case(const CaseSpec& spec, const Tolerances& tol) {
     auto compare = [&](const CaseSettings& settings, const Similarity& extra, std::optional<double>& out,
                        const char* what) {
       const Similarity variant_frame = extra.after(frame);
+      // Only positions are compared here, so the variants go without the mesh oracle's time.
       StrokeRunner variant(*spec.model, spec.outside, settings, variant_frame);
       spec.drive(variant);
       const deform::PointModel variant_initial = transformed(*spec.model, variant_frame);

@@ -246,6 +246,14 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
   const std::size_t rows_middle = nearest_point(*rows, {});
   const Outside convex{Outside::Kind::kAwayFromCentroid, {}};
   const Outside up{Outside::Kind::kDirection, {0, 0, 1}};
+  // The mesh oracle's surfaces, from the undeformed points: hulls of the convex shapes, Delaunay
+  // triangulations of the sheets in their plane, wound toward their outside.
+  using Mesh = std::shared_ptr<const SurfaceMesh>;
+  const Mesh sphere_mesh = std::make_shared<const SurfaceMesh>(convex_hull_mesh(*sphere));
+  const Mesh doubled_mesh = std::make_shared<const SurfaceMesh>(convex_hull_mesh(*doubled));
+  const Mesh sheet_surface = std::make_shared<const SurfaceMesh>(sheet_mesh(*sheet, up.direction));
+  const Mesh slide_surface = std::make_shared<const SurfaceMesh>(sheet_mesh(*slide_sheet, up.direction));
+  const Mesh rows_surface = std::make_shared<const SurfaceMesh>(sheet_mesh(*rows, up.direction));
 
   struct Single {
     const char* name;
@@ -253,41 +261,42 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
     std::size_t at;
     Vec3 normal;
     Outside outside;
+    Mesh mesh;
     double bc_factor;
     Placement placement;
   };
   const std::vector<Single> singles = {
-      {"probe_on_point", sphere, pole, pole_normal, convex, 1.0,
+      {"probe_on_point", sphere, pole, pole_normal, convex, sphere_mesh, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.n * (2 * l.s)};
          cur = {l.a};
        }},
-      {"previous_on_point", sphere, pole, pole_normal, convex, 1.0,
+      {"previous_on_point", sphere, pole, pole_normal, convex, sphere_mesh, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a};
          cur = {l.a - l.n * (0.5 * l.s)};
        }},
-      {"source_1e-6_above", sphere, pole, pole_normal, convex, 1.0,
+      {"source_1e-6_above", sphere, pole, pole_normal, convex, sphere_mesh, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.n * 1e-6};
          cur = {l.a - l.n * (0.5 * l.s)};
        }},
-      {"two_fingers_closer_than_dd", sphere, pole, pole_normal, convex, 1.0,
+      {"two_fingers_closer_than_dd", sphere, pole, pole_normal, convex, sphere_mesh, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.n * (2 * l.s) + l.t * (0.3 * l.dd), l.a + l.n * (2 * l.s) - l.t * (0.3 * l.dd)};
          cur = {l.a - l.n * (0.5 * l.s) + l.t * (0.3 * l.dd), l.a - l.n * (0.5 * l.s) - l.t * (0.3 * l.dd)};
        }},
-      {"grazing", sphere, pole, pole_normal, convex, 1.0,
+      {"grazing", sphere, pole, pole_normal, convex, sphere_mesh, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.t * (2 * l.s)};
          cur = {l.a - l.n * (1e-3 * l.s)};
        }},
-      {"tangential", sphere, pole, pole_normal, convex, 1.0,
+      {"tangential", sphere, pole, pole_normal, convex, sphere_mesh, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.t * (1.5 * l.s) + l.n * (0.3 * l.s)};
          cur = {l.a - l.t * (1.5 * l.s) - l.n * (0.3 * l.s)};
        }},
-      {"duplicate_points", doubled, pole, pole_normal, convex, 1.0,
+      {"duplicate_points", doubled, pole, pole_normal, convex, doubled_mesh, 1.0,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.n * (2 * l.s)};
          cur = {l.a - l.n * (0.5 * l.s)};
@@ -297,6 +306,7 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
        rows_middle,
        {0, 0, 1},
        up,
+       rows_surface,
        1.5,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.n * (2 * l.s)};
@@ -307,6 +317,7 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
        sheet_middle,
        {0, 0, 1},
        up,
+       sheet_surface,
        0.4,
        [](const Local& l, auto& prev, auto& cur) {
          prev = {l.a + l.n * (2 * l.s)};
@@ -325,6 +336,7 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
       c.settings = s;
       c.model = single.model;
       c.outside = single.outside;
+      c.mesh = single.mesh;
       c.drive = single_frame(single.at, single.normal, single.placement);
       cases.push_back(std::move(c));
     }
@@ -338,17 +350,18 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
     std::string name;
     Model model;
     Outside outside;
+    Mesh mesh;
     std::function<void(StrokeRunner&)> drive;
   };
   std::vector<Stroke> strokes = {
-      {"sphere_340_pushes", sphere, convex, push_series(cap, 340, 7)},
-      {"sheet_slide", slide_sheet, up, slide(-0.5, 40)},
-      {"straight_push_1.0_deep", sphere, convex, radial_squeeze({{0, 0, 1}}, 1.02, 0.02, 50)},
-      {"five_fingers_squeeze", sphere, convex, radial_squeeze(kHandOne, 1.06, 0.01, 30)},
+      {"sphere_340_pushes", sphere, convex, sphere_mesh, push_series(cap, 340, 7)},
+      {"sheet_slide", slide_sheet, up, slide_surface, slide(-0.5, 40)},
+      {"straight_push_1.0_deep", sphere, convex, sphere_mesh, radial_squeeze({{0, 0, 1}}, 1.02, 0.02, 50)},
+      {"five_fingers_squeeze", sphere, convex, sphere_mesh, radial_squeeze(kHandOne, 1.06, 0.01, 30)},
   };
   std::vector<Vec3> ten = kHandOne;
   ten.insert(ten.end(), kHandTwo.begin(), kHandTwo.end());
-  strokes.push_back({"two_hands_ten_fingers", sphere, convex, radial_squeeze(ten, 1.06, 0.01, 30)});
+  strokes.push_back({"two_hands_ten_fingers", sphere, convex, sphere_mesh, radial_squeeze(ten, 1.06, 0.01, 30)});
   // The thesis's strokes over every setting in the full sweep; defaults and the quick axes'
   // extremes are enough for a smoke run.
   std::vector<CaseSettings> stroke_axes = settings_axes(true);
@@ -362,6 +375,7 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
       c.settings = s;
       c.model = stroke.model;
       c.outside = stroke.outside;
+      c.mesh = stroke.mesh;
       c.drive = stroke.drive;
       cases.push_back(std::move(c));
     }
@@ -400,6 +414,19 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
     std::vector<std::size_t> sites;
     for (std::size_t i = 0; i < scan.size(); ++i) {
       if (norm(scan.position(i) - scan.position(top)) < reach) sites.push_back(i);
+    }
+    // The file's faces are not the mesh oracle's here: they are a shell whose inside is the
+    // 0.06 between its walls (the cavity is outside), while the pushes take every point as a
+    // solid's surface point, inner wall too, and hover 2 spacings (more than the wall) out from
+    // an inner-wall site, which is beyond the outer wall, then press into the cavity. Judged by
+    // the shell those pushes mean nothing; the PCA plane, which sees one wall at a time, is the
+    // oracle that means what they mean. (Other scans may be solids, but telling a shell from a
+    // solid is not something orient_normals' count can do: it turns 988 of the dragon's.)
+    std::size_t inner_sites = 0;
+    for (std::size_t i : sites) inner_sites += dot(scan.normal(i), as_read.normal(i)) < 0.0;
+    if (flipped > 0) {
+      std::fprintf(stderr, "check: %s: %zu of the %zu push sites had their normal turned (spacing %.3g)\n",
+                   options.scan_path.c_str(), inner_sites, sites.size(), model_spacing(scan));
     }
     bust.model = std::make_shared<const deform::PointModel>(std::move(scan));
     bust.drive = push_series(sites, pushes, 11);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "stroke_runner.hpp"
+#include "surface_mesh.hpp"
 #include "surface_side.hpp"
 
 namespace sculpt::tools::check {
@@ -20,9 +21,14 @@ struct CaseSpec {
   CaseSettings settings;
   std::shared_ptr<const deform::PointModel> model;  ///< in base coordinates
   Outside outside;
+  /// The model's surface for the mesh oracle, or null (the PCA plane judges alone).
+  std::shared_ptr<const SurfaceMesh> mesh;
   std::function<void(StrokeRunner&)> drive;
   bool invariants = true;  ///< run the G, scale and rigid-motion comparisons
   std::string skipped;     ///< non-empty: the case cannot run here, and why
+
+  /// The oracle whose counts must be zero: "mesh" or "pca".
+  const char* oracle() const { return mesh ? "mesh" : "pca"; }
 };
 
 struct SweepOptions {

@@ -41,7 +41,7 @@ Outside into_frame(const Outside& o, const Similarity& t) {
 }  // namespace
 
 StrokeRunner::StrokeRunner(const deform::PointModel& base, const Outside& outside, const CaseSettings& settings,
-                           const Similarity& frame)
+                           const Similarity& frame, const std::vector<std::uint32_t>* mesh)
     : frame_(frame),
       outside_(into_frame(outside, frame)),
       model_(transformed(base, frame)),
@@ -51,6 +51,16 @@ StrokeRunner::StrokeRunner(const deform::PointModel& base, const Outside& outsid
   outside_.reference = &reference_;
   spacing_ = deformer_.settings().contact.bc_radius / settings.bc_factor / frame_.scale;
   delta_d_ = deformer_.settings().contact.min_source_distance / frame_.scale;
+  if (mesh) mesh_oracle_.emplace(*mesh, model_.size());
+}
+
+MeshSide StrokeRunner::mesh_surface(const Vec3& q) {
+  MeshSide s = mesh_oracle_->side(model_, frame_.apply(q));
+  s.distance /= frame_.scale;
+  s.side /= frame_.scale;
+  s.closest = frame_.unapply(s.closest);
+  s.outward_normal = frame_.unrotate(s.outward_normal);
+  return s;
 }
 
 PlaneSide StrokeRunner::surface(const Vec3& q) {
@@ -63,7 +73,7 @@ PlaneSide StrokeRunner::surface(const Vec3& q) {
 
 void StrokeRunner::place(std::span<const Vec3> positions) {
   fingers_.clear();
-  for (const Vec3& p : positions) fingers_.push_back({p, std::nullopt});
+  for (const Vec3& p : positions) fingers_.push_back({p, std::nullopt, std::nullopt});
 }
 
 bool StrokeRunner::model_finite() const {
@@ -79,6 +89,8 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
   motions_.clear();
   side_before_.assign(n, 0.0);
   previous_side_.assign(n, 0.0);
+  judged_before_.assign(n, 0.0);
+  judged_previous_.assign(n, 0.0);
   for (std::size_t f = 0; f < n; ++f) {
     const Finger& g = fingers_[f];
     deform::ProbeMotion m;
@@ -89,6 +101,8 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
     // Judged on the model before the frame, as the deformer sees it.
     side_before_[f] = surface(targets[f]).side;
     previous_side_[f] = surface(g.accepted).side;
+    judged_before_[f] = has_mesh() ? mesh_surface(targets[f]).side : side_before_[f];
+    judged_previous_[f] = !has_mesh() ? previous_side_[f] : g.mesh_side ? *g.mesh_side : mesh_surface(g.accepted).side;
   }
 
   const deform::FrameReport& report = deformer_.deform(motions_);
@@ -122,17 +136,26 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
     }
   }
 
+  // A finger that pressed in from outside past Δd must have collided; one already inside
+  // before would have been counted by probe_inside at the end of last frame.
+  auto judge = [&](double before, double previous, double after, bool collided, std::uint32_t& inside,
+                   std::uint32_t& through, double& deepest) {
+    if (before < -delta_d_ && previous >= -delta_d_ && !collided) ++through;
+    if (!std::isfinite(after) || after < -delta_d_) ++inside;
+    if (std::isfinite(after)) deepest = std::max(deepest, -after);
+  };
   for (std::size_t f = 0; f < n; ++f) {
     const deform::ContactReport& c = report.contacts[f];
-    // A finger that pressed in from outside (by the oracle) past Δd must have collided; one
-    // already inside before would have been counted by probe_inside at the end of last frame.
-    const bool pressing = side_before_[f] < -delta_d_ && previous_side_[f] >= -delta_d_;
-    if (pressing && c.state != deform::ProbeState::kCollided) ++m.passed_through;
+    const bool collided = c.state == deform::ProbeState::kCollided;
     // A dropped probe has no probe_after: the finger is simply where it went.
     const Vec3 after = c.state == deform::ProbeState::kDropped ? targets[f] : frame_.unapply(c.probe_after);
-    const double side = surface(after).side;
-    if (!std::isfinite(side) || side < -delta_d_) ++m.probe_inside;
-    if (std::isfinite(side)) m.deepest = std::max(m.deepest, -side);
+    const PlaneSide plane = surface(after);
+    const double side = plane.side;
+    judge(side_before_[f], previous_side_[f], side, collided, m.pca_probe_inside, m.pca_passed_through, m.pca_deepest);
+    std::optional<MeshSide> mesh;
+    if (has_mesh()) mesh = mesh_surface(after);
+    judge(judged_before_[f], judged_previous_[f], mesh ? mesh->side : side, collided, m.probe_inside, m.passed_through,
+          m.deepest);
     if (trace_) {
       std::fprintf(stderr,
                    "step %zu finger %zu state %d before %.4g prev %.4g after %.4g code_side %.4g miss %.4g pushed %d F "
@@ -140,14 +163,27 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
                    m.steps, f, static_cast<int>(c.state), side_before_[f], previous_side_[f], side,
                    c.side_after / frame_.scale, c.miss, c.pushed_out, norm(c.force), report.rejected,
                    deformer_.frames().size());
-      const PlaneSide o = surface(after);
-      const Vec3 cn = frame_.unrotate(model_.normal(o.nearest));
-      const Vec3 pa = point(o.nearest);
+      const Vec3 cn = frame_.unrotate(model_.normal(plane.nearest));
+      const Vec3 pa = point(plane.nearest);
       std::fprintf(stderr, "   nearest %u at (%.4g %.4g %.4g) code n (%.3g %.3g %.3g) oracle n (%.3g %.3g %.3g)\n",
-                   o.nearest, pa.x, pa.y, pa.z, cn.x, cn.y, cn.z, o.normal.x, o.normal.y, o.normal.z);
+                   plane.nearest, pa.x, pa.y, pa.z, cn.x, cn.y, cn.z, plane.normal.x, plane.normal.y, plane.normal.z);
+      if (mesh) {
+        std::fprintf(stderr,
+                     "   mesh before %.4g prev %.4g after %.4g winding %.4g triangle %u closest (%.4g %.4g %.4g) "
+                     "n (%.3g %.3g %.3g)\n",
+                     judged_before_[f], judged_previous_[f], mesh->side, mesh->winding, mesh->triangle, mesh->closest.x,
+                     mesh->closest.y, mesh->closest.z, mesh->outward_normal.x, mesh->outward_normal.y,
+                     mesh->outward_normal.z);
+        const std::uint32_t* corner = &mesh_oracle_->triangles()[3 * std::size_t{mesh->triangle}];
+        for (int k = 0; k < 3; ++k) {
+          const Vec3 p = point(corner[k]);
+          std::fprintf(stderr, "     corner %u at (%.4g %.4g %.4g)\n", corner[k], p.x, p.y, p.z);
+        }
+      }
     }
     fingers_[f].earlier = fingers_[f].accepted;
     fingers_[f].accepted = after;
+    fingers_[f].mesh_side = mesh ? std::optional<double>(mesh->side) : std::nullopt;
   }
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "invariants.hpp"
+#include "mesh_side.hpp"
 #include "sculpt/deform/deformer.hpp"
 #include "surface_side.hpp"
 
@@ -35,7 +36,10 @@ struct CaseSettings {
   double bc_factor = 1.0;  ///< bc radius in spacings (1, as `sculpt deform` sets it)
 };
 
-/// What the frames of one run showed. Lengths are in base units.
+/// What the frames of one run showed. Lengths are in base units. probe_inside, passed_through
+/// and deepest are the judging oracle's: the mesh oracle where the case has a mesh, else the
+/// PCA plane; the pca_ counts are always the PCA plane's, kept beside them so that where the two
+/// disagree it shows.
 struct Metrics {
   std::size_t steps = 0;           ///< deform() calls
   std::size_t frames_applied = 0;  ///< frames the deformer applied (substeps counted)
@@ -48,15 +52,20 @@ struct Metrics {
   double max_displacement_ratio = 0.0;  ///< per applied frame: largest point displacement / largest |F|
   double min_jacobian = 1.0;
   double max_miss = 0.0;
-  double deepest = 0.0;  ///< deepest a finger ended inside after a step (oracle, >= 0)
+  double deepest = 0.0;                  ///< deepest a finger ended inside after a step (oracle, >= 0)
+  std::uint32_t pca_probe_inside = 0;    ///< probe_inside by the PCA plane (diagnostic)
+  std::uint32_t pca_passed_through = 0;  ///< passed_through by the PCA plane (diagnostic)
+  double pca_deepest = 0.0;              ///< deepest by the PCA plane (diagnostic)
   deform::GuardCounts guards;
 };
 
 class StrokeRunner {
  public:
   /// `base` is the model in case coordinates; it is mapped into `frame` for the deformer.
+  /// `mesh`: the model's surface (index triples into its points, wound outward), or null; with
+  /// one the mesh oracle judges every frame and the PCA plane's counts are diagnostics only.
   StrokeRunner(const deform::PointModel& base, const Outside& outside, const CaseSettings& settings,
-               const Similarity& frame);
+               const Similarity& frame, const std::vector<std::uint32_t>* mesh = nullptr);
   StrokeRunner(const StrokeRunner&) = delete;
   StrokeRunner& operator=(const StrokeRunner&) = delete;
 
@@ -68,6 +77,10 @@ class StrokeRunner {
 
   /// The oracle's plane at q on the model as it is now (base coordinates and units).
   PlaneSide surface(const deform::Vec3& q);
+  /// The mesh oracle's side of q on the model as it is now (base units); the runner must have a
+  /// mesh.
+  MeshSide mesh_surface(const deform::Vec3& q);
+  bool has_mesh() const { return mesh_oracle_.has_value(); }
   /// Model point i now, in base coordinates.
   deform::Vec3 point(std::size_t i) const { return frame_.unapply(model_.position(i)); }
   const deform::Vec3& finger(std::size_t f) const { return fingers_[f].accepted; }
@@ -81,6 +94,9 @@ class StrokeRunner {
   struct Finger {
     deform::Vec3 accepted;
     std::optional<deform::Vec3> earlier;
+    // The mesh oracle's side of `accepted` on the model as the last frame left it, which is the
+    // model the next frame starts from: a third of the mesh queries saved. Unset after place().
+    std::optional<double> mesh_side;
   };
   static deform::DeformSettings settings_for(const deform::PointModel& model, const CaseSettings& s);
   bool model_finite() const;
@@ -94,10 +110,13 @@ class StrokeRunner {
   // the nearest point next to the oracle's, to see where the two disagree.
   bool trace_ = false;
   SurfaceSideOracle oracle_;
+  std::optional<MeshSideOracle> mesh_oracle_;
   double spacing_ = 0.0, delta_d_ = 0.0;
   std::vector<Finger> fingers_;
   std::vector<deform::ProbeMotion> motions_;
-  std::vector<double> side_before_, previous_side_;
+  // Per finger, before the frame: the target's side and the accepted position's, by the PCA plane
+  // and by the judging oracle (the same as the PCA plane's without a mesh).
+  std::vector<double> side_before_, previous_side_, judged_before_, judged_previous_;
   Metrics metrics_;
 };
 
