@@ -26,9 +26,6 @@ struct CaseSpec {
   std::function<void(StrokeRunner&)> drive;
   bool invariants = true;  ///< run the G, scale and rigid-motion comparisons
   std::string skipped;     ///< non-empty: the case cannot run here, and why
-
-  /// The oracle whose counts must be zero: "mesh" or "pca".
-  const char* oracle() const { return mesh ? "mesh" : "pca"; }
 };
 
 struct SweepOptions {

@@ -52,6 +52,7 @@ StrokeRunner::StrokeRunner(const deform::PointModel& base, const Outside& outsid
   spacing_ = deformer_.settings().contact.bc_radius / settings.bc_factor / frame_.scale;
   delta_d_ = deformer_.settings().contact.min_source_distance / frame_.scale;
   if (mesh) mesh_oracle_.emplace(*mesh, model_.size());
+  metrics_.judged_by_mesh = mesh_oracle_.has_value() && mesh_oracle_->closed();
 }
 
 MeshSide StrokeRunner::mesh_surface(const Vec3& q) {
@@ -89,8 +90,8 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
   motions_.clear();
   side_before_.assign(n, 0.0);
   previous_side_.assign(n, 0.0);
-  judged_before_.assign(n, 0.0);
-  judged_previous_.assign(n, 0.0);
+  mesh_before_.assign(n, 0.0);
+  mesh_previous_.assign(n, 0.0);
   for (std::size_t f = 0; f < n; ++f) {
     const Finger& g = fingers_[f];
     deform::ProbeMotion m;
@@ -101,8 +102,10 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
     // Judged on the model before the frame, as the deformer sees it.
     side_before_[f] = surface(targets[f]).side;
     previous_side_[f] = surface(g.accepted).side;
-    judged_before_[f] = has_mesh() ? mesh_surface(targets[f]).side : side_before_[f];
-    judged_previous_[f] = !has_mesh() ? previous_side_[f] : g.mesh_side ? *g.mesh_side : mesh_surface(g.accepted).side;
+    if (has_mesh()) {
+      mesh_before_[f] = mesh_surface(targets[f]).side;
+      mesh_previous_[f] = g.mesh_side ? *g.mesh_side : mesh_surface(g.accepted).side;
+    }
   }
 
   const deform::FrameReport& report = deformer_.deform(motions_);
@@ -153,9 +156,18 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
     const double side = plane.side;
     judge(side_before_[f], previous_side_[f], side, collided, m.pca_probe_inside, m.pca_passed_through, m.pca_deepest);
     std::optional<MeshSide> mesh;
-    if (has_mesh()) mesh = mesh_surface(after);
-    judge(judged_before_[f], judged_previous_[f], mesh ? mesh->side : side, collided, m.probe_inside, m.passed_through,
-          m.deepest);
+    if (has_mesh()) {
+      mesh = mesh_surface(after);
+      judge(mesh_before_[f], mesh_previous_[f], mesh->side, collided, m.mesh_probe_inside, m.mesh_passed_through,
+            m.mesh_deepest);
+    }
+    // The counts that must be zero: a closed mesh's winding number where there is one, else the
+    // PCA plane (an open sheet's mesh verdict stays beside it; see Metrics).
+    if (m.judged_by_mesh) {
+      judge(mesh_before_[f], mesh_previous_[f], mesh->side, collided, m.probe_inside, m.passed_through, m.deepest);
+    } else {
+      judge(side_before_[f], previous_side_[f], side, collided, m.probe_inside, m.passed_through, m.deepest);
+    }
     if (trace_) {
       std::fprintf(stderr,
                    "step %zu finger %zu state %d before %.4g prev %.4g after %.4g code_side %.4g miss %.4g pushed %d F "
@@ -171,7 +183,7 @@ void StrokeRunner::press(std::span<const Vec3> targets) {
         std::fprintf(stderr,
                      "   mesh before %.4g prev %.4g after %.4g winding %.4g triangle %u closest (%.4g %.4g %.4g) "
                      "n (%.3g %.3g %.3g)\n",
-                     judged_before_[f], judged_previous_[f], mesh->side, mesh->winding, mesh->triangle, mesh->closest.x,
+                     mesh_before_[f], mesh_previous_[f], mesh->side, mesh->winding, mesh->triangle, mesh->closest.x,
                      mesh->closest.y, mesh->closest.z, mesh->outward_normal.x, mesh->outward_normal.y,
                      mesh->outward_normal.z);
         const std::uint32_t* corner = &mesh_oracle_->triangles()[3 * std::size_t{mesh->triangle}];

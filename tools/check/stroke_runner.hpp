@@ -37,9 +37,11 @@ struct CaseSettings {
 };
 
 /// What the frames of one run showed. Lengths are in base units. probe_inside, passed_through
-/// and deepest are the judging oracle's: the mesh oracle where the case has a mesh, else the
-/// PCA plane; the pca_ counts are always the PCA plane's, kept beside them so that where the two
-/// disagree it shows.
+/// and deepest are the judging oracle's: the winding number of the case's mesh where that mesh
+/// is closed (the sphere's hull), else the PCA plane. The pca_ and mesh_ counts are each
+/// oracle's own, kept beside them so that where they disagree it shows: on an open sheet the
+/// mesh's side comes from a pseudo-normal over triangles a slide stretches to 2.4 spacings, an
+/// interpolation as uncertain as the plane's, so there it informs and does not judge.
 struct Metrics {
   std::size_t steps = 0;           ///< deform() calls
   std::size_t frames_applied = 0;  ///< frames the deformer applied (substeps counted)
@@ -52,10 +54,14 @@ struct Metrics {
   double max_displacement_ratio = 0.0;  ///< per applied frame: largest point displacement / largest |F|
   double min_jacobian = 1.0;
   double max_miss = 0.0;
-  double deepest = 0.0;                  ///< deepest a finger ended inside after a step (oracle, >= 0)
-  std::uint32_t pca_probe_inside = 0;    ///< probe_inside by the PCA plane (diagnostic)
-  std::uint32_t pca_passed_through = 0;  ///< passed_through by the PCA plane (diagnostic)
-  double pca_deepest = 0.0;              ///< deepest by the PCA plane (diagnostic)
+  double deepest = 0.0;                   ///< deepest a finger ended inside after a step (oracle, >= 0)
+  std::uint32_t pca_probe_inside = 0;     ///< probe_inside by the PCA plane (diagnostic)
+  std::uint32_t pca_passed_through = 0;   ///< passed_through by the PCA plane (diagnostic)
+  double pca_deepest = 0.0;               ///< deepest by the PCA plane (diagnostic)
+  std::uint32_t mesh_probe_inside = 0;    ///< probe_inside by the mesh, when the case has one
+  std::uint32_t mesh_passed_through = 0;  ///< passed_through by the mesh, when the case has one
+  double mesh_deepest = 0.0;              ///< deepest by the mesh, when the case has one
+  bool judged_by_mesh = false;            ///< the case's mesh is closed and judges
   deform::GuardCounts guards;
 };
 
@@ -115,8 +121,8 @@ class StrokeRunner {
   std::vector<Finger> fingers_;
   std::vector<deform::ProbeMotion> motions_;
   // Per finger, before the frame: the target's side and the accepted position's, by the PCA plane
-  // and by the judging oracle (the same as the PCA plane's without a mesh).
-  std::vector<double> side_before_, previous_side_, judged_before_, judged_previous_;
+  // and by the mesh (when the case has one).
+  std::vector<double> side_before_, previous_side_, mesh_before_, mesh_previous_;
   Metrics metrics_;
 };
 
