@@ -241,11 +241,15 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
   totals_.guards += frame.guards;
   report_.guards = frame.guards;
   report_.min_jacobian = frame.min_jacobian;
-  // A fresh snapshot when the points have drifted, or when the index's list of moved points
-  // (which keeps its queries exact without widening) is half full.
+  // A fresh snapshot when the index's list of moved points (which keeps its queries exact and
+  // cheap however far the points drifted) is half full; without a complete list, when the
+  // points have drifted. Rebuilding for drift alone while the list holds would keep the second
+  // core building a large model's tree nonstop for nothing: on two million points that widened
+  // the tick's tail (p99.9 0.53 -> 1.19 ms in one minute's run with 59 rebuilds against 2).
   const deform::PointIndex& index = deformer_.index();
-  if (deformer_.drift() > rebuild_drift_ ||
-      (index.moved_complete() && 2 * index.moved_count() > index.moved_capacity())) {
+  const bool rebuild =
+      index.moved_complete() ? 2 * index.moved_count() > index.moved_capacity() : deformer_.drift() > rebuild_drift_;
+  if (rebuild) {
     rebuilder_.request(deformer_.model(), deformer_.drift());
   }
   for (std::size_t k = 0; k < probes_.size(); ++k) {

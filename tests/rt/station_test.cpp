@@ -115,12 +115,46 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
   EXPECT_EQ(r.collisions, 0u);
   EXPECT_EQ(sphere.z, held.z);
 
-  // The tree was rebuilt in the background: give the worker up to 2 s of real time, ticking,
-  // then check the queries are still exact against brute force on the deformed model.
+  // The region's moved points are listed beside the tree, so its queries stay exact against
+  // brute force on the deformed model with no rebuild (the station rebuilds once the list is
+  // half full, or by the drift without a list: the next test).
+  EXPECT_TRUE(station.deformer().index().moved_complete());
+  EXPECT_GT(station.deformer().index().moved_count(), 0u);
+  for (const deform::Vec3 q : {deform::Vec3{0, 0, 0.9}, deform::Vec3{0.1, 0.05, 1.1}, deform::Vec3{0, 0, 0.97}}) {
+    double best = 1e9;
+    for (std::size_t i = 0; i < sphere.size(); ++i) best = std::min(best, deform::norm(sphere.position(i) - q));
+    EXPECT_DOUBLE_EQ(station.deformer().index().nearest(sphere, q, station.deformer().drift()).distance, best);
+  }
+}
+
+// A global frame moves every point, which no list of moved points holds: the station then
+// rebuilds the tree in the background once the points have drifted, and the queries stay
+// exact throughout.
+TEST(Station, AGlobalStrokeRebuildsTheIndexInTheBackgroundAndStaysExact) {
+  deform::PointModel sphere = deform::make_sphere();
+  StationSettings settings = press_settings();
+  settings.region.kind = RegionPolicy::Kind::kGlobal;
+  auto glove = std::make_unique<FakeGlove>();
+  FakeGlove* g = glove.get();
+  std::vector<hal::HapticCommand> haptics;
+  haptics.reserve(10000);
+  Station station(sphere, settings, std::move(glove), std::make_unique<RecordingSink>(&haptics));
+  station.start();
+  std::int64_t now = 0;
+  for (int i = 0; i <= 20; ++i) {
+    for (int k = 0; k < 5; ++k) {
+      now += kMs;
+      if (k == 0) g->feed({0.0, 0.0, 1.3 - 0.02 * i}, now, static_cast<std::uint64_t>(now / 1000));
+      station.tick(now, kMs);
+    }
+  }
+  EXPECT_GT(station.totals().frames, 10u);
+  EXPECT_FALSE(station.deformer().index().moved_complete());
+  // Give the worker up to 2 s of real time, ticking.
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(2);
   while (station.totals().index_rebuilds == 0 && std::chrono::steady_clock::now() < give_up) {
     now += kMs;
-    station.tick(now, kBudget);
+    station.tick(now, kMs);
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   EXPECT_GT(station.totals().index_rebuilds, 0u);
