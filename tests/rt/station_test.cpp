@@ -36,6 +36,15 @@ class RecordingSink final : public hal::HapticSink {
   std::vector<hal::HapticCommand>* log_;
 };
 
+// The station's index answers nearest() on the deformed model as brute force does.
+void expect_nearest_exact(Station& station, const deform::PointModel& model) {
+  for (const deform::Vec3 q : {deform::Vec3{0, 0, 0.9}, deform::Vec3{0.1, 0.05, 1.1}, deform::Vec3{0, 0, 0.97}}) {
+    double best = 1e9;
+    for (std::size_t k = 0; k < model.size(); ++k) best = std::min(best, deform::norm(model.position(k) - q));
+    EXPECT_DOUBLE_EQ(station.deformer().index().nearest(model, q, station.deformer().drift()).distance, best);
+  }
+}
+
 TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSilent) {
   deform::PointModel sphere = deform::make_sphere();
   const deform::PointModel before = sphere;
@@ -120,11 +129,7 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
   // half full, or by the drift without a list: the next test).
   EXPECT_TRUE(station.deformer().index().moved_complete());
   EXPECT_GT(station.deformer().index().moved_count(), 0u);
-  for (const deform::Vec3 q : {deform::Vec3{0, 0, 0.9}, deform::Vec3{0.1, 0.05, 1.1}, deform::Vec3{0, 0, 0.97}}) {
-    double best = 1e9;
-    for (std::size_t i = 0; i < sphere.size(); ++i) best = std::min(best, deform::norm(sphere.position(i) - q));
-    EXPECT_DOUBLE_EQ(station.deformer().index().nearest(sphere, q, station.deformer().drift()).distance, best);
-  }
+  expect_nearest_exact(station, sphere);
 }
 
 // A global frame moves every point, which no list of moved points holds: the station then
@@ -158,11 +163,7 @@ TEST(Station, AGlobalStrokeRebuildsTheIndexInTheBackgroundAndStaysExact) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   EXPECT_GT(station.totals().index_rebuilds, 0u);
-  for (const deform::Vec3 q : {deform::Vec3{0, 0, 0.9}, deform::Vec3{0.1, 0.05, 1.1}, deform::Vec3{0, 0, 0.97}}) {
-    double best = 1e9;
-    for (std::size_t i = 0; i < sphere.size(); ++i) best = std::min(best, deform::norm(sphere.position(i) - q));
-    EXPECT_DOUBLE_EQ(station.deformer().index().nearest(sphere, q, station.deformer().drift()).distance, best);
-  }
+  expect_nearest_exact(station, sphere);
 }
 
 // Two hands, the right one goes silent: its finger is released within one tick past the
