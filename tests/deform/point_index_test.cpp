@@ -439,6 +439,17 @@ std::vector<std::uint32_t> press(PointModel& m, PointIndex& index, std::mt19937&
   return moved;
 }
 
+// A nearest() answer agrees with brute force: a point as near as the nearest and the same
+// distance, to 1e-12 relative. Not bit for bit: the library and a test may be compiled with
+// other flags (the minimal pass builds tests at -O0), and a fused multiply-add moves the last
+// bit, which also decides near-ties between distinct points. A stale answer is off by far more.
+bool same_nearest(const PointModel& m, const Vec3& q, const PointIndex::Nearest& got, const PointIndex::Nearest& want) {
+  if (got.index == PointIndex::kNoPoint || want.index == PointIndex::kNoPoint) return got.index == want.index;
+  const double slack = 1e-12 * want.distance + 1e-300;
+  return std::sqrt(squared_distance(m, got.index, q)) <= want.distance + slack &&
+         std::abs(got.distance - want.distance) <= slack;
+}
+
 // Queries near the moved points and at random, all answered with drift 0.
 struct Misses {
   int nearest = 0, within = 0, queries = 0;
@@ -455,7 +466,7 @@ Misses check_queries(const PointModel& m, const PointIndex& index, std::mt19937&
     const Vec3 q = m.position(near[pick(rng)]) + Vec3{jitter(rng), jitter(rng), jitter(rng)};
     const PointIndex::Nearest got = index.nearest(m, q, 0.0);
     const PointIndex::Nearest want = brute_nearest(m, q);
-    misses.nearest += got.index != want.index || got.distance != want.distance;
+    misses.nearest += !same_nearest(m, q, got, want);
     EXPECT_TRUE(index.within_radius(m, q, 0.06, found, 0.0));
     misses.within += found != oracle_within(m, q, 0.06);
     ++misses.queries;
@@ -519,8 +530,7 @@ TEST(MovedPointsIndex, AnOverflowingListFallsBackOnTheDrift) {
   for (int k = 0; k < 200; ++k) {
     const Vec3 q = m.position(static_cast<std::size_t>(k) * 97 % m.size());
     const PointIndex::Nearest got = index.nearest(m, q, bound);
-    const PointIndex::Nearest want = brute_nearest(m, q);
-    EXPECT_EQ(got.index, want.index);
+    EXPECT_TRUE(same_nearest(m, q, got, brute_nearest(m, q)));
     EXPECT_TRUE(index.within_radius(m, q, 0.05, found, bound));
     EXPECT_EQ(found, oracle_within(m, q, 0.05));
   }
