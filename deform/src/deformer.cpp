@@ -253,34 +253,42 @@ Vec3 Deformer::outward(std::uint32_t point) const noexcept {
 Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, const Vec3& force, std::uint32_t nearest,
                             double clearance, bool& moved) const noexcept {
   moved = false;
-  // Float positions: a source exactly at the clearance may measure a hair closer. Beyond the
-  // clearance, no model point may sit much closer to the source than A does: Kelvin's field
-  // falls as 1/R, so a point at half A's distance moves twice as far as A is asked to (a glove
-  // sample that jumped across the model makes such a source).
-  auto clear = [&](const Vec3& p) {
+  // How alone a source at p stands: its nearest model point's distance over the distance it
+  // must keep (>= 1: clear). Beyond the clearance, no model point may sit much closer to the
+  // source than A does: Kelvin's field falls as 1/R, so a point at half A's distance moves twice
+  // as far as A is asked to (a glove sample that jumped across the model makes such a source).
+  // Float positions: a source exactly at the clearance may measure a hair closer.
+  auto aloneness = [&](const Vec3& p) {
     const double needed = std::max(clearance, kSourceAloneRatio * norm(p - contact));
-    return index_.nearest(model_, p, drift_).distance >= needed * (1.0 - 1e-6);
+    return index_.nearest(model_, p, drift_).distance / (needed * (1.0 - 1e-6));
   };
-  if (clear(candidate)) return candidate;
+  if (aloneness(candidate) >= 1.0) return candidate;
   // MATH.md §4 and §6: a source next to any model point makes that point's displacement
   // unbounded, and one off the force's axis shears the patch and folds it early. First the
   // way the probe came (-F, when it leaves on the allowed side): on the force axis, which keeps
   // a straight push straight even where the carried normal has tilted; then A's normal, for a
   // tangential stroke whose -F runs along the surface. A dent may bring other points closer
-  // than A, so each distance doubles until the clearance holds (four tries).
+  // than A, so each distance doubles until the clearance holds (four tries). Where none holds
+  // (a carried normal tilted into the surface, say), the most alone of the places tried.
   moved = true;
   const Vec3 side = outward(nearest);
   const Vec3 back = normalized(-force);
-  Vec3 placed = candidate;
+  Vec3 best = candidate;
+  double best_alone = aloneness(candidate);
   for (const Vec3& dir : {back, side}) {
     if (!(dot(dir, side) > 0.5)) continue;  // within 60 degrees of the allowed side
     double distance = clearance;
     for (int k = 0; k < 4; ++k, distance *= 2.0) {
-      placed = contact + dir * distance;
-      if (clear(placed)) return placed;
+      const Vec3 placed = contact + dir * distance;
+      const double alone = aloneness(placed);
+      if (alone >= 1.0) return placed;
+      if (alone > best_alone) {
+        best = placed;
+        best_alone = alone;
+      }
     }
   }
-  return placed;
+  return best;
 }
 
 bool Deformer::probe_in_range(const Vec3& p) const noexcept {

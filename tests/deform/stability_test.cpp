@@ -123,6 +123,46 @@ TEST(Stability, SourceAMicronAboveAPointIsMovedClear) {
   EXPECT_LT(largest_step(before, sphere), 3.0 * norm(r.contacts[0].force));  // was 917 units
 }
 
+// A carried normal tilted nearly into the surface leaves the source no clear place: -F is not
+// on the allowed side, and along A's normal every place tried has a model point closer than
+// half its distance to A. The source must then stand where it is most alone, never on the last
+// place tried whatever is there (here a stray point sits on it: a source on a model point
+// moves that point without bound).
+TEST(Stability, WhenNoPlaceTriedIsClearTheSourceStandsWhereItIsMostAlone) {
+  const double pitch = 0.05;
+  PointModel sheet = make_plane_patch(41, pitch);
+  const std::size_t a = sheet.size() / 2;  // the centre, at the origin
+  ASSERT_LT(norm(sheet.position(a)), 1e-12);
+  const double tilt = 80.0 * M_PI / 180.0;
+  const Vec3 tilted{std::sin(tilt), 0.0, std::cos(tilt)};
+  sheet.set_normal(a, tilted);
+  const DeformSettings settings = settings_for(pitch);
+  // The places the deformer tries along A's normal: the clearance (eps here) doubled 3 times.
+  const double clearance = settings.contact.bc_radius;
+  const Vec3 last_tried = tilted * (8.0 * clearance);
+  sheet.push_back(last_tried);
+  sheet.set_normal(sheet.size() - 1, {0.0, 0.0, 1.0});
+  const PointModel before = sheet;
+  Deformer d(sheet, settings);
+  const ProbeMotion m{{0.0, 0.0, 0.3 * clearance}, {0.0, 0.0, -0.2 * clearance}, std::nullopt};
+  const FrameReport& r = d.deform({&m, 1});
+  ASSERT_FALSE(d.frames().empty());
+  const ContactReport& c = d.frames().front().contacts[0];  // substeps hold its source
+  ASSERT_EQ(c.state, ProbeState::kCollided);
+  EXPECT_EQ(c.source_rule, SourceRule::kCleared);
+  // How alone each candidate stands: nearest point's distance over what it must keep.
+  auto alone = [&](const Vec3& p) {
+    return min_distance_to_points(before, p) / std::max(clearance, 0.5 * norm(p - before.position(a)));
+  };
+  double best = alone(m.previous);
+  for (double k : {1.0, 2.0, 4.0, 8.0}) best = std::max(best, alone(tilted * (k * clearance)));
+  ASSERT_LT(best, 1.0);  // no place was clear: the fallback is what is tested
+  EXPECT_NEAR(alone(c.source), best, 1e-6);
+  EXPECT_GT(norm(c.source - last_tried), clearance);
+  EXPECT_EQ(r.guards.non_finite, 0u);
+  EXPECT_TRUE(all_finite(sheet));
+}
+
 // Finding 2: a non-finite result is caught, not hidden by a NaN-blind maximum, and undone bit
 // for bit through the journal.
 TEST(Stability, NonFiniteDisplacementIsReportedAndTheJournalRestoresTheBytes) {

@@ -80,24 +80,32 @@ Vec3 ExactFrame::clear_source(const ExactState& s, const Vec3& candidate, const 
   // deformer tries the way the probe came, then A's outside, doubling the distance; the same
   // order here, so that both place the source at the same spot.
   constexpr double kAloneRatio = 0.5;
-  auto clear = [&](const Vec3& p) {
+  // Its nearest point's distance over the distance it must keep (>= 1: clear); where no place
+  // tried is clear, the deformer takes the most alone one, and so does this.
+  auto alone = [&](const Vec3& p) {
     const double needed = std::max(clearance, kAloneRatio * norm(p - contact));
-    return norm(s.position[nearest(s, p)] - p) >= needed * (1.0 - 1e-6);
+    return norm(s.position[nearest(s, p)] - p) / (needed * (1.0 - 1e-6));
   };
   moved = false;
-  if (clear(candidate)) return candidate;
+  if (alone(candidate) >= 1.0) return candidate;
   moved = true;
   const Vec3 allowed = outward(s, a);
-  Vec3 placed = candidate;
+  Vec3 best = candidate;
+  double best_alone = alone(candidate);
   const std::array<Vec3, 2> directions = {normalized(-force), allowed};
   for (const Vec3& dir : directions) {
     if (!(dot(dir, allowed) > 0.5)) continue;
     for (int k = 0; k < 4; ++k) {
-      placed = contact + dir * (clearance * std::ldexp(1.0, k));
-      if (clear(placed)) return placed;
+      const Vec3 placed = contact + dir * (clearance * std::ldexp(1.0, k));
+      const double how = alone(placed);
+      if (how >= 1.0) return placed;
+      if (how > best_alone) {
+        best = placed;
+        best_alone = how;
+      }
     }
   }
-  return placed;
+  return best;
 }
 
 void ExactFrame::patch(const ExactState& s, const Vec3& centre, const Vec3& u0, bool widen,
