@@ -12,20 +12,10 @@ namespace sculpt::deform {
 
 namespace {
 
-// How many points the finger's patch (an eps-ball) holds on the undeformed model: the median
-// over an even sample, times `fraction`, rounded up.
+// How many points the finger's patch (an eps-ball) holds on the undeformed model, times
+// `fraction`, rounded up.
 std::size_t typical_patch_points(const PointModel& model, const PointIndex& index, double radius, double fraction) {
-  const std::size_t n = model.size();
-  const std::size_t samples = std::min<std::size_t>(n, 64);
-  std::vector<std::size_t> counts;
-  std::vector<std::uint32_t> found;
-  found.reserve(n);  // within_radius fills up to the capacity and never grows it
-  for (std::size_t k = 0; k < samples; ++k) {
-    index.within_radius(model, model.position(k * n / samples), radius, found);
-    counts.push_back(found.size());
-  }
-  std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(samples / 2), counts.end());
-  const double median = static_cast<double>(counts[samples / 2]);
+  const double median = static_cast<double>(median_ball_count(model, index, radius));
   return std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(fraction * median)));
 }
 
@@ -114,6 +104,8 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   effective_.resize(kMaxSources);
   contact_points_.reserve(kMaxSources);
   neighbours_.reserve(n);
+  side_neighbours_.reserve(n);
+  side_smoothing_ = side_smoothing(model_, index_, settings_.contact.bc_radius);
   // Every finger's patch holds at most max_patch_points (thinned beyond), so the worst frame
   // is every probe's full patch plus the region's band (at most every point).
   const std::size_t patch = std::min(n, settings_.contact.max_patch_points);
@@ -243,6 +235,10 @@ void Deformer::compute_tractions(FrameReport& r) noexcept {
   }
 }
 
+SurfaceSide Deformer::locate_probe(const Vec3& probe) noexcept {
+  return locate(model_, index_, drift_, probe, settings_.contact, side_smoothing_, side_neighbours_);
+}
+
 Vec3 Deformer::outward(std::uint32_t point) const noexcept {
   const ContactSettings& cs = settings_.contact;
   Vec3 side = model_.has_normals() ? model_.normal(point) : normalized(*cs.reference - model_.position(point));
@@ -304,7 +300,7 @@ void Deformer::keep_probes_outside(std::span<const ProbeMotion> probes, FrameRep
   for (std::size_t p = 0; p < probes.size(); ++p) {
     ContactReport& c = r.contacts[p];
     if (c.state == ProbeState::kDropped) continue;
-    const SurfaceSide after = locate(model_, index_, drift_, probes[p].current, cs);
+    const SurfaceSide after = locate_probe(probes[p].current);
     c.side_after = after.side;
     c.probe_after = probes[p].current;
     if (after.nearest == PointIndex::kNoPoint) continue;
@@ -319,7 +315,7 @@ void Deformer::keep_probes_outside(std::span<const ProbeMotion> probes, FrameRep
     c.probe_after = model_.position(after.nearest) + outward(after.nearest) * cs.min_source_distance;
     c.pushed_out = true;
     ++r.guards.pushed_out;
-    c.side_after = locate(model_, index_, drift_, c.probe_after, cs).side;
+    c.side_after = locate_probe(c.probe_after).side;
   }
   r.max_miss = 0.0;
   for (std::size_t p = 0; p < probes.size(); ++p) r.max_miss = std::max(r.max_miss, r.contacts[p].miss);
@@ -349,8 +345,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
     ContactReport& c = r.contacts[p];
     c = ContactReport{};
     neighbourhood_begin_[p] = contact_neighbourhood_.size();
-    const SurfaceSide now =
-        probe_usable(probes[p]) ? locate(model_, index_, drift_, probes[p].current, cs) : SurfaceSide{};
+    const SurfaceSide now = probe_usable(probes[p]) ? locate_probe(probes[p].current) : SurfaceSide{};
     if (now.nearest == PointIndex::kNoPoint) {
       c.state = ProbeState::kDropped;
       ++r.guards.probe_dropped;
@@ -363,7 +358,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
     // After a frame the probe rests on the surface up to the solve's residual, so a previous
     // position less than Δd across it still counts as on the surface; only one clearly across
     // started inside.
-    const double previous_side = locate(model_, index_, drift_, probes[p].previous, cs).side;
+    const double previous_side = locate_probe(probes[p].previous).side;
     const double tolerance = cs.mode == ContactMode::kPush ? cs.min_source_distance : -cs.min_source_distance;
     if (crossed(cs.mode, previous_side + tolerance)) {
       c.state = ProbeState::kStartedInside;

@@ -103,4 +103,19 @@ TypicalSpacing typical_spacing(const PointModel& model, const PointIndex& index,
   return result;
 }
 
+std::size_t median_ball_count(const PointModel& model, const PointIndex& index, double radius) {
+  const std::size_t n = model.size();
+  if (n == 0) return 0;
+  const std::size_t samples = std::min<std::size_t>(n, 64);
+  std::vector<std::size_t> counts;
+  std::vector<std::uint32_t> found;
+  found.reserve(n);  // within_radius fills up to the capacity and never grows it
+  for (std::size_t k = 0; k < samples; ++k) {
+    index.within_radius(model, model.position(k * n / samples), radius, found);
+    counts.push_back(found.size());
+  }
+  std::nth_element(counts.begin(), counts.begin() + static_cast<std::ptrdiff_t>(samples / 2), counts.end());
+  return counts[samples / 2];
+}
+
 }  // namespace sculpt::deform

@@ -45,6 +45,9 @@ ExactFrame::ExactFrame(const deform::PointModel& initial, const deform::DeformSe
   settings_.traction = false;
   const ExactState s = ExactState::from(initial);
   min_patch_points_ = typical_patch(s, settings_.contact.bc_radius, settings_.guards.min_patch_fraction);
+  // deform::side_smoothing: eps, shrunk where an eps-ball holds more than 24 points.
+  const double ball = static_cast<double>(typical_patch(s, settings_.contact.bc_radius, 1.0));
+  smoothing_ = settings_.contact.bc_radius * (ball > 24.0 ? std::sqrt(24.0 / ball) : 1.0);
   centre_ = initial.bounding_box_centre();
   probe_range_ = settings_.guards.probe_range * std::max(initial.bounding_box_diagonal(), 1e-30);
 }
@@ -62,9 +65,34 @@ std::uint32_t ExactFrame::nearest(const ExactState& s, const Vec3& q) const {
   return best;
 }
 
+Vec3 ExactFrame::outside_at(const ExactState& s, std::uint32_t i) const {
+  return s.has_normals() ? s.normal[i] : normalized(*settings_.contact.reference - s.position[i]);
+}
+
+// deform::locate's side (contact.hpp), over every point in double: A's plane, and the
+// moving-least-squares surface of the points around q through A; across when either says so.
 double ExactFrame::side(const ExactState& s, std::uint32_t a, const Vec3& q) const {
-  const Vec3 v = q - s.position[a];
-  return s.has_normals() ? dot(s.normal[a], v) : dot(v, normalized(*settings_.contact.reference - s.position[a]));
+  const Vec3 pa = s.position[a];
+  const double plane = dot(outside_at(s, a), q - pa);
+  const double h = smoothing_;
+  const double d2 = squared_norm(q - pa);
+  if (!(h > 0.0) || !(std::sqrt(d2) <= 2.0 * h)) return plane;
+  double weight_q = 0.0, sum_q = 0.0, weight_a = 0.0, sum_a = 0.0;
+  for (std::uint32_t i = 0; i < s.size(); ++i) {
+    const Vec3 p = s.position[i];
+    const double tq = std::max(0.0, (squared_norm(q - p) - d2) / (4.0 * h * h));
+    const double ta = squared_norm(pa - p) / (4.0 * h * h);
+    if (tq < 1.0) {
+      weight_q += (1.0 - tq) * (1.0 - tq);
+      sum_q += (1.0 - tq) * (1.0 - tq) * dot(outside_at(s, i), q - p);
+    }
+    if (ta < 1.0) {
+      weight_a += (1.0 - ta) * (1.0 - ta);
+      sum_a += (1.0 - ta) * (1.0 - ta) * dot(outside_at(s, i), pa - p);
+    }
+  }
+  const double surface = sum_q / weight_q - sum_a / weight_a;
+  return settings_.contact.mode == deform::ContactMode::kPush ? std::min(plane, surface) : std::max(plane, surface);
 }
 
 Vec3 ExactFrame::outward(const ExactState& s, std::uint32_t a) const {

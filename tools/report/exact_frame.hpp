@@ -58,6 +58,7 @@ class ExactFrame {
 
   Outcome attempt(ExactState& state, std::span<const deform::ProbeMotion> probes, Attempt& a) const;
   std::uint32_t nearest(const ExactState& s, const deform::Vec3& q) const;
+  deform::Vec3 outside_at(const ExactState& s, std::uint32_t i) const;
   double side(const ExactState& s, std::uint32_t a, const deform::Vec3& q) const;
   deform::Vec3 outward(const ExactState& s, std::uint32_t a) const;
   deform::Vec3 clear_source(const ExactState& s, const deform::Vec3& candidate, const deform::Vec3& contact,
@@ -68,6 +69,7 @@ class ExactFrame {
 
   deform::DeformSettings settings_;
   std::size_t min_patch_points_ = 1;
+  double smoothing_ = 0.0;  // the side's smoothing length h, as deform::side_smoothing fixes it
   deform::Vec3 centre_;
   double probe_range_ = 0.0;
 };

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "sculpt/deform/point_index.hpp"
 #include "sculpt/deform/point_model.hpp"
@@ -46,17 +47,48 @@ struct ProbeMotion {
   std::optional<Vec3> earlier;
 };
 
-/// Where a probe stands against the pseudo-surface.
+/// Where a probe stands against the pseudo-surface. Each side is a signed distance along the
+/// outside direction, negative inside.
 struct SurfaceSide {
   std::uint32_t nearest = PointIndex::kNoPoint;  ///< A, the nearest model point
   double distance = 0.0;                         ///< |P - A|
-  /// n_A . (P - A) with normals, (P - A) . (R - A)/|R - A| with a reference point: a signed
-  /// distance along the outside direction, negative inside.
+  /// The thesis's one-point test (4.2.1.1-2): n_A . (P - A) with normals,
+  /// (P - A) . (R - A)/|R - A| with a reference point.
+  double plane_side = 0.0;
+  /// The surface of the points around the probe, through A (see locate()); plane_side where it
+  /// is not evaluated.
+  double surface_side = 0.0;
+  /// What collision detection reads: min(plane_side, surface_side) for a push, the max for a
+  /// pull (see locate()).
   double side = 0.0;
 };
 
-/// Nearest point and side of `probe`, exact for a model that moved at most `drift` since the
+/// The smoothing length h of locate()'s surface: the finger's radius eps, shrunk on a model so
+/// dense that an eps-ball holds more than about 24 points (the median over an even sample), so
+/// that a query's cost stays bounded whatever eps is. Set-up work: allocates.
+double side_smoothing(const PointModel& model, const PointIndex& index, double bc_radius);
+
+/// Nearest point A and side of `probe`, exact for a model that moved at most `drift` since the
 /// index was built. The model must have normals or settings.reference must be set.
+///
+/// A's plane alone (the thesis) reads one carried normal, and in a crease the finger itself made
+/// that normal can tilt the wrong way: a finger under the crease's wall then reads as outside
+/// and passes through. So within 2h of the model (h = `smoothing`) the side also reads the
+/// surface of the points around the probe, an implicit moving-least-squares surface
+/// f(q) = sum w_i o_i . (q - p_i) / sum w_i, with o_i each point's outside direction and
+/// w_i = (1 - t_i)^2 for t_i = (|q - p_i|^2 - |q - A|^2) / (4 h^2) < 1, measured against its value
+/// at A: surface_side = f(P) - f(A). It is 0 on a model point as the thesis's side is, the exact
+/// distance to a flat patch's plane, and it passes through the samples rather than off them by
+/// the curvature. The probe is across when either estimate says so: side = min(plane_side,
+/// surface_side) for a push (a finger both see outside is free), the max for a pull. Farther
+/// than 2h, and when the neighbourhood does not fit in `neighbours`, side = plane_side.
+/// `neighbours` is scratch: reserve() it for the model's size; it is never grown. Does not
+/// allocate or throw.
+SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift, const Vec3& probe,
+                   const ContactSettings& settings, double smoothing, std::vector<std::uint32_t>& neighbours) noexcept;
+
+/// The same with its own scratch and smoothing (side_smoothing()): allocates; for set-up and
+/// tests, never the tick.
 SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift, const Vec3& probe,
                    const ContactSettings& settings);
 

@@ -200,6 +200,9 @@ class Deformer {
   double field_magnitude_max(std::span<const std::uint32_t> points) const noexcept;
   void compute_tractions(FrameReport& r) noexcept;
   void keep_probes_outside(std::span<const ProbeMotion> probes, FrameReport& r) noexcept;
+  // A and the side of a probe on the current model (contact.hpp's locate, with this deformer's
+  // scratch and smoothing length).
+  SurfaceSide locate_probe(const Vec3& probe) noexcept;
 
   PointModel& model_;
   DeformSettings settings_;
@@ -227,6 +230,8 @@ class Deformer {
   std::vector<DisplacementCondition> conditions_;
   std::vector<Vec3> contact_points_;
   std::vector<std::uint32_t> neighbours_;
+  std::vector<std::uint32_t> side_neighbours_;        // locate()'s scratch, reserved for the whole model
+  double side_smoothing_ = 0.0;                       // locate()'s h (side_smoothing)
   std::vector<std::uint32_t> contact_neighbourhood_;  // every contact's bc points, contact by contact
   std::vector<std::size_t> neighbourhood_begin_;      // where each probe's points start in it
   std::vector<double> patch_area_scale_;              // per probe: patch points before thinning / after

@@ -26,4 +26,9 @@ struct TypicalSpacing {
 ///        points coincide (the message says which), `samples` is 0, or the index does not match.
 TypicalSpacing typical_spacing(const PointModel& model, const PointIndex& index, std::size_t samples = 2000);
 
+/// The median, over an even sample of at most 64 points, of how many points lie within
+/// `radius` of a point (itself included): how many points a ball of that radius holds on the
+/// model. 0 for an empty model. `index` must be built over `model`. Set-up work: allocates.
+std::size_t median_ball_count(const PointModel& model, const PointIndex& index, double radius);
+
 }  // namespace sculpt::deform
