@@ -27,13 +27,15 @@
 #include "sculpt_lcm/collision_event_t.hpp"
 #include "sculpt_lcm/glove_sample_t.hpp"
 #include "sculpt_lcm/tick_stats_t.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace sculpt::logging {
 namespace {
 
+// This process's folder, removed when it exits.
 std::string temp_path(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("sculpt_durable_test_" + std::to_string(::getpid()));
-  return (dir / name).string();
+  static const test::ScratchDir dir("sculpt_durable_test_");
+  return (dir.path() / name).string();
 }
 
 CollisionRecord make_collision(std::int64_t i, std::int64_t utime) {

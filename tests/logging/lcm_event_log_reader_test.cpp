@@ -3,8 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +20,7 @@
 #include "sculpt/logging/records.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
 #include "sculpt_lcm/tick_stats_t.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace sculpt::logging {
 namespace {
@@ -29,10 +28,10 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 using Result = EventLogReader::Result;
 
+// This process's folder, removed when it exits.
 std::string temp_path(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("sculpt_reader_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+  static const test::ScratchDir dir("sculpt_reader_test_");
+  return (dir.path() / name).string();
 }
 
 template <typename Message>

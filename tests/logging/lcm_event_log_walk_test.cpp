@@ -6,14 +6,14 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "support/scratch_dir.hpp"
 
 namespace sculpt::logging {
 namespace {
@@ -38,9 +38,8 @@ Bytes event_bytes(std::int64_t number, const std::string& channel, std::size_t p
 }
 
 std::string write_file(const std::string& name, const Bytes& bytes) {
-  const auto dir = std::filesystem::temp_directory_path() / ("sculpt_walk_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string path = (dir / name).string();
+  static const test::ScratchDir dir("sculpt_walk_test_");  // this process's, removed when it exits
+  const std::string path = (dir.path() / name).string();
   std::ofstream(path, std::ios::binary)
       .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   return path;
