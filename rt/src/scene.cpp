@@ -421,10 +421,18 @@ void read_glove(const Section& root, Scene& scene) {
     case hal::Backend::kSerial:
       read_serial(s.table("serial", {"device", "baud", "reconnect_ms"}), config.serial);
       break;
-    case hal::Backend::kUsb:
-      read_usb(s.table("usb", {"vendor_id", "product_id", "interface", "endpoint", "out_endpoint", "transfer"}),
-               config.usb);
+    case hal::Backend::kUsb: {
+      const Section usb =
+          s.table("usb", {"vendor_id", "product_id", "interface", "endpoint", "out_endpoint", "transfer"});
+      // Known, so that the message can say where it belongs: the source only reads.
+      if (usb.has("out_endpoint")) {
+        usb.fail("out_endpoint",
+                 "the glove source only reads its IN endpoint; the OUT endpoint for haptic frames "
+                 "is [haptic.usb] out_endpoint");
+      }
+      read_usb(usb, config.usb);
       break;
+    }
     case hal::Backend::kLcm:
       read_lcm_transport(s.table("lcm", {"url", "channel"}), scene.lcm.url, config.lcm.url, config.lcm.glove_channel);
       break;

@@ -245,7 +245,6 @@ vendor_id = 0x1209
 product_id = 0xA7C3
 interface = 2
 endpoint = 0x82
-out_endpoint = 0x02
 transfer = "bulk"
 )");
     const auto& usb = s.glove.config.usb;
@@ -253,7 +252,6 @@ transfer = "bulk"
     EXPECT_EQ(usb.product_id, 0xA7C3);
     EXPECT_EQ(usb.interface_number, 2);
     EXPECT_EQ(usb.endpoint, 0x82);
-    EXPECT_EQ(usb.out_endpoint, 0x02);
     EXPECT_EQ(usb.transfer, hal::UsbConfig::Transfer::kBulk);
     EXPECT_EQ(s.glove.hands, (std::vector<std::uint8_t>{0, 1}));
     EXPECT_EQ(s.glove.fingers, (std::vector<std::uint8_t>{0, 4}));
@@ -794,6 +792,26 @@ TEST(Scene, TimesTimeoutsAndRatesAreBoundedAbove) {
   const Scene s = parse(kMinimal + "[filter]\nmin_cutoff = 1e4\n[haptic]\nmax_force_rate = 1e6\n");
   EXPECT_DOUBLE_EQ(s.filter.min_cutoff, 1e4);
   EXPECT_DOUBLE_EQ(s.haptic_limits.max_force_rate, 1e6);
+}
+
+// The glove source only reads: an OUT endpoint in its section would do nothing, so it is
+// refused where it stands, saying where it belongs.
+TEST(Scene, AGloveOutEndpointIsRefusedAndPointsToTheHapticSink) {
+  try {
+    parse(R"([model]
+path = "m.ply"
+[glove]
+backend = "usb"
+[glove.usb]
+vendor_id = 0x1209
+product_id = 0xA7C3
+out_endpoint = 0x02
+)");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "glove.usb.out_endpoint") << e.what();
+    EXPECT_NE(e.problem().find("[haptic.usb] out_endpoint"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Scene, UnknownKeyMessageIsExact) {
