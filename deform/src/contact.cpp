@@ -39,8 +39,9 @@ Vec3 outside_at(const PointModel& model, std::uint32_t i, const ContactSettings&
   return model.has_normals() ? model.normal(i) : normalized(*settings.reference - model.position(i));
 }
 
-// An eps-ball holding about this many points gives a well-fitted plane; more only costs time.
+// An h-ball holding about this many points gives a smooth surface; more only costs time.
 constexpr double kSideNeighbours = 24.0;
+
 }  // namespace
 
 double side_smoothing(const PointModel& model, const PointIndex& index, double bc_radius) {
