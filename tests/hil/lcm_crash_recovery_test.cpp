@@ -184,16 +184,23 @@ TEST_F(CrashRecovery, ARealTimeRunKilledRecoversAFiniteModelHoldingEveryComplete
   const fs::path scene = dir_ / "squeeze.toml";
   std::ofstream(scene) << text;
   std::mt19937 random(9);
-  // The fingers touch the sphere from about 0.8 s on; the kill lands while they press or hold.
-  const auto delay = std::chrono::milliseconds(std::uniform_int_distribution<int>(1300, 2600)(random));
+  // The fingers touch the sphere from about 0.8 s on and hold until 2 s; the kill lands a random
+  // moment (up to 1 s) after the first collision reached the disk, so while they press or hold.
+  // A fixed delay from the start also measured how long the run took to start: a sanitizer
+  // build under a parallel test's load once wrote nothing in the 1.3 s drawn.
+  const auto delay = std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 1000)(random));
+  const fs::path log = dir_ / "sphere-squeeze.lcmlog";
   test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "10", "--quiet"},
                          (dir_ / "run.txt").string());
   ASSERT_TRUE(run.started());
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!(fs::exists(log) && whole_frames_in(log).events > 0) && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   std::this_thread::sleep_for(delay);
   run.signal(SIGKILL);
   ASSERT_EQ(run.wait(), -1) << "the run was not killed: " << slurp(dir_ / "run.txt");
 
-  const fs::path log = dir_ / "sphere-squeeze.lcmlog";
   const WholeFrames truth = whole_frames_in(log);
   ASSERT_GT(truth.events, 0u) << "no collision reached the disk before the kill";
   const fs::path recovered = dir_ / "recovered.ply";
