@@ -34,8 +34,8 @@ namespace {
 
 // This process's folder, removed when it exits.
 std::string temp_path(const std::string& name) {
-  static const test::ScratchDir dir("sculpt_durable_test_");
-  return (dir.path() / name).string();
+  static const test::ScratchDir kScratch("sculpt_durable_test_");
+  return (kScratch.path() / name).string();
 }
 
 CollisionRecord make_collision(std::int64_t i, std::int64_t utime) {

@@ -30,8 +30,8 @@ using Result = EventLogReader::Result;
 
 // This process's folder, removed when it exits.
 std::string temp_path(const std::string& name) {
-  static const test::ScratchDir dir("sculpt_reader_test_");
-  return (dir.path() / name).string();
+  static const test::ScratchDir kScratch("sculpt_reader_test_");
+  return (kScratch.path() / name).string();
 }
 
 template <typename Message>

@@ -38,8 +38,8 @@ Bytes event_bytes(std::int64_t number, const std::string& channel, std::size_t p
 }
 
 std::string write_file(const std::string& name, const Bytes& bytes) {
-  static const test::ScratchDir dir("sculpt_walk_test_");  // this process's, removed when it exits
-  const std::string path = (dir.path() / name).string();
+  static const test::ScratchDir kScratch("sculpt_walk_test_");  // this process's, removed when it exits
+  const std::string path = (kScratch.path() / name).string();
   std::ofstream(path, std::ios::binary)
       .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   return path;
