@@ -82,6 +82,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   settings.field.precision = precision;
   settings.threads = threads;
   settings.field.normal_skip_bound = normal_skip_bound;
+  settings.measure_extremes = false;  // as the station runs it: a report's diagnostic, not the frame
   if (region_spacings > 0.0) {
     settings.region.kind = RegionSettings::Kind::kRadius;
     settings.region.radius = region_spacings * spacing;

@@ -428,8 +428,10 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
 
   // 5. What the frame will do at the contacts and the band, and the haptic traction, all on the
   //    undeformed configuration the solution refers to.
-  r.max_contact_displacement = field_magnitude_max(contact_neighbourhood_);
-  r.max_border_displacement = field_magnitude_max(band);
+  if (settings_.measure_extremes) {
+    r.max_contact_displacement = field_magnitude_max(contact_neighbourhood_);
+    r.max_border_displacement = field_magnitude_max(band);
+  }
   if (settings_.traction) compute_tractions(r);
 
   // 6. Move the region (or everything) and carry the normals, keeping the old values: a frame

@@ -36,6 +36,7 @@ deform::DeformSettings prepared(StationSettings& s, const deform::PointModel& mo
   deform::DeformSettings d = s.deform;
   d.max_probes = s.fingers.size();
   d.traction = haptics;
+  d.measure_extremes = false;  // a report's diagnostic: nothing in the station reads it
   switch (s.region.kind) {
     case RegionPolicy::Kind::kGlobal: d.region.kind = deform::RegionSettings::Kind::kGlobal; break;
     case RegionPolicy::Kind::kRadius:

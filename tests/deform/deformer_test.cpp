@@ -409,5 +409,34 @@ TEST(Deformer, BadSettingsAreRejectedAtConstruction) {
   EXPECT_THROW(Deformer(sphere, s), std::invalid_argument);
 }
 
+TEST(Deformer, LeavingOutTheExtremesChangesNothingButTheirReport) {
+  // The station turns the diagnostic off: the frame must move the same bytes either way.
+  auto press = [](bool measure) {
+    PointModel model = make_sphere();
+    DeformSettings s = sphere_settings();
+    s.region.kind = RegionSettings::Kind::kRadius;
+    s.region.radius = 0.6;
+    s.measure_extremes = measure;
+    Deformer deformer(model, s);
+    const Vec3 d = lattice_direction(model, {0.0, 0.0, 1.0});
+    const ProbeMotion push{d * 1.1, d * 0.95, std::nullopt};
+    const FrameReport r = deformer.deform({&push, 1});
+    return std::make_pair(model, r);
+  };
+  const auto [measured, measured_report] = press(true);
+  const auto [plain, plain_report] = press(false);
+  ASSERT_EQ(measured_report.collisions, 1u);
+  ASSERT_GT(measured_report.border_points, 0u);
+  EXPECT_GT(measured_report.max_contact_displacement, 0.0);
+  EXPECT_GT(measured_report.max_border_displacement, 0.0);
+  EXPECT_EQ(plain_report.max_contact_displacement, 0.0);
+  EXPECT_EQ(plain_report.max_border_displacement, 0.0);
+  EXPECT_EQ(plain_report.region_points, measured_report.region_points);
+  EXPECT_EQ(std::memcmp(plain.x.data(), measured.x.data(), plain.x.size() * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(plain.y.data(), measured.y.data(), plain.y.size() * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(plain.z.data(), measured.z.data(), plain.z.size() * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(plain.nz.data(), measured.nz.data(), plain.nz.size() * sizeof(float)), 0);
+}
+
 }  // namespace
 }  // namespace sculpt::deform
