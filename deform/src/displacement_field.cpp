@@ -6,6 +6,9 @@
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 namespace sculpt::deform {
 namespace {
@@ -392,6 +395,39 @@ void point_bounded_gradient(const SourceTable<T>& t, const Block<T>& b, Gradient
 
 }  // namespace
 
+// Copies n floats with non-temporal stores where the target has them (plain stores elsewhere).
+// For the journal of a global pass: written once a frame and read back only when a frame is
+// undone, so written around the caches it neither evicts the model's arrays nor first reads
+// every line it overwrites (at 437,645 points, 10 MB a frame). The caller fences (finish_streaming)
+// before anyone else may read the copy.
+void stream_copy(float* __restrict dst, const float* __restrict src, std::size_t n) noexcept {
+  std::size_t k = 0;
+#if defined(__AVX512F__)
+  constexpr std::size_t kWidth = 16;
+  auto store = [](float* d, const float* s) { _mm512_stream_ps(d, _mm512_loadu_ps(s)); };
+#elif defined(__AVX__)
+  constexpr std::size_t kWidth = 8;
+  auto store = [](float* d, const float* s) { _mm256_stream_ps(d, _mm256_loadu_ps(s)); };
+#elif defined(__SSE__)
+  constexpr std::size_t kWidth = 4;
+  auto store = [](float* d, const float* s) { _mm_stream_ps(d, _mm_loadu_ps(s)); };
+#endif
+#if defined(__SSE__)
+  constexpr std::uintptr_t kAlign = kWidth * sizeof(float);
+  for (; k < n && reinterpret_cast<std::uintptr_t>(dst + k) % kAlign != 0; ++k) dst[k] = src[k];
+  for (; k + kWidth <= n; k += kWidth) store(dst + k, src + k);
+#endif
+  for (; k < n; ++k) dst[k] = src[k];
+}
+
+// Orders this thread's non-temporal stores before whatever it does next (the worker's "done",
+// the caller's return): they are weakly ordered otherwise.
+void finish_streaming() noexcept {
+#if defined(__SSE__)
+  _mm_sfence();
+#endif
+}
+
 // Records a block of old values into a journal reserved at set-up: no allocation, by
 // construction of the reservation (the caller reserves for every point a frame may move).
 // Slot k of the journal holds the pass's k-th point, so blocks record independently (the two
@@ -414,13 +450,22 @@ struct JournalWriter {
     if constexpr (!kContiguous) {
       for (std::size_t k = 0; k < n; ++k) j.index_[at + k] = static_cast<std::uint32_t>(index_of(begin + k));
     }
-    std::memcpy(j.x_.data() + at, x, n * sizeof(float));
-    std::memcpy(j.y_.data() + at, y, n * sizeof(float));
-    std::memcpy(j.z_.data() + at, z, n * sizeof(float));
+    // A global pass's journal is as large as the model: written around the caches. A region's
+    // is small and stays in them.
+    const auto copy = [](float* dst, const float* src, std::size_t count) {
+      if constexpr (kContiguous) {
+        stream_copy(dst, src, count);
+      } else {
+        std::memcpy(dst, src, count * sizeof(float));
+      }
+    };
+    copy(j.x_.data() + at, x, n);
+    copy(j.y_.data() + at, y, n);
+    copy(j.z_.data() + at, z, n);
     if (j.normals_ && nx) {
-      std::memcpy(j.nx_.data() + at, nx, n * sizeof(float));
-      std::memcpy(j.ny_.data() + at, ny, n * sizeof(float));
-      std::memcpy(j.nz_.data() + at, nz, n * sizeof(float));
+      copy(j.nx_.data() + at, nx, n);
+      copy(j.ny_.data() + at, ny, n);
+      copy(j.nz_.data() + at, nz, n);
     }
   }
 };
@@ -567,6 +612,9 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
       copy_indexed<false>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
       if constexpr (kCarry) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
     }
+  }
+  if constexpr (kContiguous) {
+    if (journal) finish_streaming();
   }
   PassExtremes<T> e;
   e.bad = bad;
