@@ -206,11 +206,12 @@ class RunCommand final : public Command {
     const rt::StationTotals& t = station->totals();
     std::printf(
         "\nresult   %llu ticks at %.4g Hz, %llu overruns, tick median %.4g us p99 %.4g us p99.9 %.4g us "
-        "max %.4g us\n",
+        "max %.4g us (CPU p99.9 %.4g us max %.4g us)\n",
         static_cast<unsigned long long>(loop.stats().ticks), loop.achieved_rate(),
         static_cast<unsigned long long>(loop.stats().overruns), loop.stats().tick_time.quantile(0.5) * 1e-3,
         loop.stats().tick_time.quantile(0.99) * 1e-3, loop.stats().tick_time.quantile(0.999) * 1e-3,
-        static_cast<double>(loop.stats().tick_time.max()) * 1e-3);
+        static_cast<double>(loop.stats().tick_time.max()) * 1e-3, loop.stats().tick_cpu_time.quantile(0.999) * 1e-3,
+        static_cast<double>(loop.stats().tick_cpu_time.max()) * 1e-3);
     std::printf("         %llu glove samples, %llu collision frames, %llu collisions\n",
                 static_cast<unsigned long long>(t.samples), static_cast<unsigned long long>(t.frames),
                 static_cast<unsigned long long>(t.collisions));
@@ -285,6 +286,7 @@ class RunCommand final : public Command {
             {"overruns", s.overruns},
             {"missed_periods", s.missed_periods},
             {"tick_time", histogram_json(s.tick_time)},
+            {"tick_cpu_time", histogram_json(s.tick_cpu_time)},
             {"wake_jitter", histogram_json(s.wake_jitter)},
             {"glove_samples", c.samples},
             {"samples_taken", t.samples},

@@ -29,17 +29,20 @@ std::int64_t FixedRateLoop::begin_run() noexcept {
   stats_.overruns = 0;
   stats_.missed_periods = 0;
   stats_.tick_time.clear();
+  stats_.tick_cpu_time.clear();
   stats_.wake_jitter.clear();
   stats_.started_ns = monotonic_now_ns();
   stats_.ended_ns = stats_.started_ns;
   return stats_.started_ns;
 }
 
-std::int64_t FixedRateLoop::end_tick(std::int64_t deadline, std::int64_t woke) noexcept {
+std::int64_t FixedRateLoop::end_tick(std::int64_t deadline, std::int64_t woke, std::int64_t woke_cpu) noexcept {
+  const std::int64_t done_cpu = thread_cpu_now_ns();
   const std::int64_t done = monotonic_now_ns();
   ++stats_.ticks;
   stats_.wake_jitter.add(woke - deadline);
   stats_.tick_time.add(done - woke);
+  stats_.tick_cpu_time.add(done_cpu - woke_cpu);
   std::int64_t next = deadline + period_ns_;
   if (done >= next) {
     // Every deadline in [next, done] has passed with no tick: skip them all and keep the phase.

@@ -224,6 +224,33 @@ TEST(FixedRateLoop, StopsWithinOnePeriodOfTheFlag) {
   }
 }
 
+TEST(FixedRateLoop, TheTicksCpuTimeLeavesOutWhatTheThreadDidNotRun) {
+  // Even ticks sleep 3 ms (wall time, no CPU), odd ones spin until their thread has run 2 ms.
+  // The wall-time histogram sees both; the CPU-time one sees only the spin. A preempted tick is
+  // the sleeping one's case, seen from the loop.
+  FixedRateLoop loop(100.0);  // 10 ms: room for either
+  std::atomic<bool> stop{false};
+  loop.run(
+      [&](std::uint64_t k, std::int64_t) noexcept {
+        if (k % 2 == 0) {
+          sleep_until_ns(monotonic_now_ns() + 3 * kMs);
+        } else {
+          const std::int64_t start = thread_cpu_now_ns();
+          while (thread_cpu_now_ns() - start < 2 * kMs) {
+          }
+        }
+        if (k == 5) stop.store(true);
+      },
+      stop);
+  const LoopStats& s = loop.stats();
+  ASSERT_EQ(s.ticks, 6u);
+  ASSERT_EQ(s.tick_cpu_time.count(), 6u);
+  EXPECT_GE(s.tick_time.min(), 2 * kMs);      // every tick took at least 2 ms of wall time
+  EXPECT_GE(s.tick_cpu_time.max(), 2 * kMs);  // the spinning ones used it
+  EXPECT_LT(s.tick_cpu_time.min(), kMs);      // the sleeping ones did not
+  EXPECT_LE(s.tick_cpu_time.max(), s.tick_time.max());
+}
+
 // The per-tick path of the station as far as rt has it: filter, dead band, registration, the
 // loop's own accounting. After a warm-up run, nothing on this thread allocates.
 TEST(FixedRateLoop, TheLoopAndTickPathAllocateNothingAfterWarmUp) {

@@ -16,6 +16,7 @@ namespace sculpt::rt {
 /// The loop's clock is the host's monotonic clock (sculpt/base/clock.hpp).
 using base::monotonic_now_ns;
 using base::sleep_until_ns;
+using base::thread_cpu_now_ns;
 
 /// What one run of the loop did.
 struct LoopStats {
@@ -23,9 +24,12 @@ struct LoopStats {
   std::uint64_t overruns = 0;        ///< ticks that ended after the next deadline
   std::uint64_t missed_periods = 0;  ///< periods skipped because of overruns (no tick for them)
   LatencyHistogram tick_time;        ///< time used by each tick, wake-up to return (ns)
-  LatencyHistogram wake_jitter;      ///< how late each wake-up was after its deadline (ns)
-  std::int64_t started_ns = 0;       ///< CLOCK_MONOTONIC when run() started
-  std::int64_t ended_ns = 0;         ///< CLOCK_MONOTONIC when run() saw the stop flag
+  /// CPU time the loop's thread spent in each tick (ns). Beside tick_time it tells a tick that
+  /// worked long from one the machine preempted (wall time grows, CPU time does not).
+  LatencyHistogram tick_cpu_time;
+  LatencyHistogram wake_jitter;  ///< how late each wake-up was after its deadline (ns)
+  std::int64_t started_ns = 0;   ///< CLOCK_MONOTONIC when run() started
+  std::int64_t ended_ns = 0;     ///< CLOCK_MONOTONIC when run() saw the stop flag
 };
 
 /// Calls a tick once per period until stopped. Construction validates; run() is noexcept and
@@ -55,8 +59,9 @@ class FixedRateLoop {
       const std::int64_t woke = monotonic_now_ns();
       // Checked again after the sleep, so a stop set during it costs no extra tick.
       if (stop.load(std::memory_order_acquire)) break;
+      const std::int64_t woke_cpu = thread_cpu_now_ns();
       tick(stats_.ticks, deadline);
-      deadline = end_tick(deadline, woke);
+      deadline = end_tick(deadline, woke, woke_cpu);
     }
     stats_.ended_ns = monotonic_now_ns();
   }
@@ -72,9 +77,10 @@ class FixedRateLoop {
  private:
   // Resets the statistics; returns the start time.
   std::int64_t begin_run() noexcept;
-  // Accounts one tick that woke at `woke` for `deadline`; returns the next deadline that is
-  // still in the future, counting an overrun and the periods skipped to reach it.
-  std::int64_t end_tick(std::int64_t deadline, std::int64_t woke) noexcept;
+  // Accounts one tick that woke at `woke` (and at `woke_cpu` on the thread's CPU clock) for
+  // `deadline`; returns the next deadline that is still in the future, counting an overrun and
+  // the periods skipped to reach it.
+  std::int64_t end_tick(std::int64_t deadline, std::int64_t woke, std::int64_t woke_cpu) noexcept;
 
   double rate_hz_;
   std::int64_t period_ns_;
