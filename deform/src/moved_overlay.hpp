@@ -65,6 +65,8 @@ class MovedOverlay {
   bool complete() const noexcept { return !overflowed_; }
   bool contains(std::uint32_t i) const noexcept { return (listed_[i / 64] >> (i % 64)) & 1u; }
   std::size_t size() const noexcept { return count_; }
+  /// The listed points in the order they were listed (a point noted again keeps its place).
+  std::span<const std::uint32_t> listed() const noexcept { return {ids_.data(), count_}; }
   std::size_t capacity() const noexcept { return ids_.size(); }
 
   /// Improves (best, best_squared) with the listed points at their current positions: a point

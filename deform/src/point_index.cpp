@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "moved_overlay.hpp"
+#include "unlisted_tree.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -18,15 +20,10 @@ namespace {
 // tree shallow without scanning long leaves.
 constexpr std::size_t kLeafSize = 12;
 
-// The tree searches in double (ElementType double over float storage) so that pruning
-// decisions carry only double rounding error. Each search bound is still widened by this
-// relative amount, plus the smallest normal double so a zero radius admits exact hits (nanoflann
-// admits a leaf point only when its distance is strictly below the bound). Every candidate is
-// re-tested exactly afterwards, so the widening costs a few extra tests at most.
-constexpr double kRelativeSlack = 1e-9;
-constexpr double kAbsoluteSlack = std::numeric_limits<double>::min();
-
-double widened(double squared_bound) { return squared_bound * (1.0 + kRelativeSlack) + kAbsoluteSlack; }
+// The tree searches in double (ElementType double over float storage); every bound is widened
+// (widened_bound, unlisted_tree.hpp: nanoflann admits a leaf point only when its distance is
+// strictly below the bound, and a zero radius must admit exact hits).
+double widened(double squared_bound) { return widened_bound(squared_bound); }
 
 // Squared snapshot-distance bound for candidates that can be within `radius` now, given that no
 // point moved more than `drift`: |q - current| <= r implies |q - snapshot| <= r + drift.
@@ -63,36 +60,18 @@ struct Snapshot {
 using Metric = nanoflann::L2_Simple_Adaptor<double, Snapshot, double, std::uint32_t>;
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, Snapshot, 3, std::uint32_t>;
 
-// nanoflann result set for nearest(): tests each candidate at its current position and
-// shrinks the snapshot bound to (best current distance + drift) as better points turn up.
-// With `skip` (the moved list), listed points are left to it, and every other point is where the
-// snapshot has it: its distance is taken from the snapshot's copy, which the tree has just read,
-// rather than from the model's arrays (three more cache misses a candidate on a large model).
+// nanoflann result set for nearest() without the moved list: tests each candidate at its
+// current position and shrinks the snapshot bound to (best current distance + drift) as better
+// points turn up.
 class NearestCollector {
  public:
-  NearestCollector(const PointModel& model, const Snapshot& snapshot, const double* q, double drift,
-                   const MovedOverlay* skip)
-      : model_(model), snapshot_(snapshot), q_(q), drift_(drift), skip_(skip) {}
-  /// Starts from a candidate found elsewhere (the moved list's best): the tree then visits only
-  /// what could beat it, instead of walking past every listed point to the nearest unlisted one.
-  void start_from(std::uint32_t i, double squared) {
-    if (i == PointIndex::kNoPoint) return;
-    best_index_ = i;
-    best_squared_ = squared;
-    bound_ = widened(squared);
-  }
+  NearestCollector(const PointModel& model, const double* q, double drift) : model_(model), q_(q), drift_(drift) {}
 
   std::size_t size() const { return best_index_ == PointIndex::kNoPoint ? 0 : 1; }
   bool full() const { return true; }
   double worstDist() const { return bound_; }  // NOLINT(readability-identifier-naming): nanoflann calls it
   bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {  // NOLINT(readability-identifier-naming)
-    double d2 = 0.0;
-    if (skip_ == nullptr) {
-      d2 = current_squared_distance(model_, i, q_);
-    } else {
-      if (skip_->contains(i)) return true;  // left to the list
-      d2 = snapshot_.squared_distance(i, q_);
-    }
+    const double d2 = current_squared_distance(model_, i, q_);
     if (d2 < best_squared_ || (d2 == best_squared_ && i < best_index_)) {
       best_squared_ = d2;
       best_index_ = i;
@@ -106,41 +85,28 @@ class NearestCollector {
 
  private:
   const PointModel& model_;
-  const Snapshot& snapshot_;
   const double* q_;
   double drift_;
-  const MovedOverlay* skip_;
   double best_squared_ = std::numeric_limits<double>::infinity();
   std::uint32_t best_index_ = PointIndex::kNoPoint;
   double bound_ = std::numeric_limits<double>::infinity();
 };
 
-// nanoflann result set for within_radius(): keeps candidates whose current position passes the
-// exact test, appending to the caller's vector within its capacity (never growing it: the
-// real-time path must not allocate), and remembers when a match did not fit.
+// nanoflann result set for within_radius() without the moved list: keeps candidates whose
+// current position passes the exact test, appending to the caller's vector within its capacity
+// (never growing it: the real-time path must not allocate), and remembers when a match did not
+// fit.
 class RadiusCollector {
  public:
-  RadiusCollector(const PointModel& model, const Snapshot& snapshot, const double* q, double radius, double drift,
-                  std::vector<std::uint32_t>& out, const MovedOverlay* skip)
-      : model_(model),
-        snapshot_(snapshot),
-        q_(q),
-        radius_squared_(radius * radius),
-        bound_(search_bound(radius, drift)),
-        out_(out),
-        skip_(skip) {}
+  RadiusCollector(const PointModel& model, const double* q, double radius, double drift,
+                  std::vector<std::uint32_t>& out)
+      : model_(model), q_(q), radius_squared_(radius * radius), bound_(search_bound(radius, drift)), out_(out) {}
 
   std::size_t size() const { return out_.size(); }
   bool full() const { return true; }
   double worstDist() const { return bound_; }  // NOLINT(readability-identifier-naming): nanoflann calls it
   bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {  // NOLINT(readability-identifier-naming)
-    if (skip_ == nullptr) {
-      if (current_squared_distance(model_, i, q_) > radius_squared_) return true;
-    } else {
-      // As in NearestCollector: listed points are the list's; the others are where the
-      // snapshot has them.
-      if (skip_->contains(i) || snapshot_.squared_distance(i, q_) > radius_squared_) return true;
-    }
+    if (current_squared_distance(model_, i, q_) > radius_squared_) return true;
     if (out_.size() < out_.capacity()) {
       out_.push_back(i);
     } else {
@@ -152,12 +118,10 @@ class RadiusCollector {
 
  private:
   const PointModel& model_;
-  const Snapshot& snapshot_;
   const double* q_;
   double radius_squared_;
   double bound_;
   std::vector<std::uint32_t>& out_;
-  const MovedOverlay* skip_;
   bool truncated_ = false;
 };
 
@@ -170,6 +134,8 @@ struct PointIndex::Impl {
   Tree tree{3, points,
             nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize,
                                                       nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex)};
+  // The tree's shape with its unlisted counts, searched while the moved list is in use.
+  UnlistedTree unlisted;
 };
 
 PointIndex::PointIndex() = default;
@@ -200,6 +166,8 @@ void PointIndex::rebuild(const PointModel& model) {
     }
   }
   impl_->tree.buildIndex();
+  impl_->unlisted.build(impl_->tree, n);
+  unlisted_marked_ = 0;
   if (moved_) moved_->clear();
 }
 
@@ -214,22 +182,37 @@ void PointIndex::note_moved(const PointModel& model, std::span<const std::uint32
     moved_->note_all();
   } else {
     moved_->note(model, points);
+    if (std::atomic_ref<bool>(list_wanted_).load(std::memory_order_relaxed)) mark_listed();
   }
+}
+
+void PointIndex::mark_listed() noexcept {
+  if (!impl_ || !moved_) return;
+  // Newly listed points are appended to the list: those leave the tree's counts.
+  const std::span<const std::uint32_t> listed = moved_->listed();
+  for (std::size_t s = unlisted_marked_; s < listed.size(); ++s) impl_->unlisted.mark_listed(listed[s]);
+  unlisted_marked_ = listed.size();
 }
 
 void PointIndex::forget_moved() noexcept {
   if (moved_) moved_->clear();
+  if (impl_) impl_->unlisted.reset();
+  unlisted_marked_ = 0;
 }
 
 void PointIndex::take_moved(PointIndex& previous, const PointModel& model) noexcept {
   std::swap(moved_, previous.moved_);
   std::swap(moved_min_drift_, previous.moved_min_drift_);
+  list_wanted_ = std::atomic_ref<bool>(previous.list_wanted_).load(std::memory_order_relaxed);
   if (!moved_ || !indexes(model)) return;
   const std::vector<float>& xyz = impl_->points.xyz;
   moved_->retain(model, [&](std::uint32_t i) {
     const std::size_t k = 3 * static_cast<std::size_t>(i);
     return model.x[i] != xyz[k] || model.y[i] != xyz[k + 1] || model.z[i] != xyz[k + 2];
   });
+  impl_->unlisted.reset();
+  unlisted_marked_ = 0;
+  if (list_wanted_) mark_listed();
 }
 
 std::size_t PointIndex::moved_count() const noexcept { return moved_ ? moved_->size() : 0; }
@@ -240,6 +223,15 @@ bool PointIndex::moved_complete() const noexcept { return moved_ && moved_->comp
 
 const MovedOverlay* PointIndex::usable_moved(double drift) const noexcept {
   return moved_ && moved_->complete() && drift >= moved_min_drift_ ? moved_.get() : nullptr;
+}
+
+bool PointIndex::counts_ready() const noexcept {
+  // The tree's counts follow the list only once a query has used the list: before, a frame that
+  // moves thousands of points would pay for counts nothing reads (10-20 us of a region frame).
+  // Until note_moved has brought them up, a query skips listed points one by one, not by subtree.
+  if (unlisted_marked_ == moved_->size()) return true;
+  std::atomic_ref<bool>(list_wanted_).store(true, std::memory_order_relaxed);
+  return false;
 }
 
 std::size_t PointIndex::size() const { return impl_ ? impl_->points.kdtree_get_point_count() : 0; }
@@ -254,18 +246,17 @@ PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q, 
   // With the moved points listed, the tree holds the others at their snapshot positions: no
   // widening, and the list answers for the moved ones.
   const MovedOverlay* moved = usable_moved(drift);
-  NearestCollector collector(model, impl_->points, query, moved != nullptr ? 0.0 : std::max(drift, 0.0), moved);
   if (moved != nullptr) {
-    // A bound first: the tree's nearest by the snapshot, at its current position, is a real
-    // point, so no nearer one lies beyond it. With it the list's scan skips most blocks, and
-    // the list's best then bounds the exact tree search below.
-    NearestCollector seed(model, impl_->points, query, 0.0, nullptr);
-    impl_->tree.findNeighbors(seed, query, nanoflann::SearchParams());
-    std::uint32_t best = seed.best_index();
-    double best_squared = seed.best_squared();
+    // The tree first, over the points still at their snapshot positions (skipping the listed
+    // ones' subtrees): its best then bounds the list's scan, which skips the blocks beyond it.
+    std::uint32_t best = kNoPoint;
+    double best_squared = std::numeric_limits<double>::infinity();
+    impl_->unlisted.nearest(impl_->points.xyz.data(), query, *moved, counts_ready(), best, best_squared);
     moved->nearest(model, query, best, best_squared);
-    collector.start_from(best, best_squared);
+    if (best == kNoPoint) return {kNoPoint, std::numeric_limits<double>::infinity()};
+    return {best, std::sqrt(best_squared)};
   }
+  NearestCollector collector(model, query, std::max(drift, 0.0));
   impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
   if (collector.best_index() == kNoPoint) {
     // Only reachable with a non-finite query: every comparison failed.
@@ -281,11 +272,16 @@ bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double ra
   if (size() == 0 || !(radius >= 0.0)) return true;
   const double query[3] = {q.x, q.y, q.z};
   const MovedOverlay* moved = usable_moved(drift);
-  RadiusCollector collector(model, impl_->points, query, radius, moved != nullptr ? 0.0 : std::max(drift, 0.0), out,
-                            moved);
-  impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
-  bool complete = !collector.truncated();
-  if (moved != nullptr) complete = moved->within_radius(model, query, radius * radius, out) && complete;
+  bool complete = true;
+  if (moved != nullptr) {
+    complete =
+        impl_->unlisted.within_radius(impl_->points.xyz.data(), query, radius * radius, *moved, counts_ready(), out);
+    complete = moved->within_radius(model, query, radius * radius, out) && complete;
+  } else {
+    RadiusCollector collector(model, query, radius, std::max(drift, 0.0), out);
+    impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
+    complete = !collector.truncated();
+  }
   // Tree order is spatial; callers want index order (stable, cache-friendly writes). std::sort
   // works in place, so this stays allocation-free.
   if (ascending) std::sort(out.begin(), out.end());

@@ -573,6 +573,69 @@ TEST(MovedPointsIndex, ASwappedInIndexKeepsOnlyThePointsMovedSinceItsSnapshot) {
   EXPECT_EQ(misses, 0);
 }
 
+TEST(MovedPointsIndex, QueriesAboveAndBelowADeepDentAreExact) {
+  // One spot pressed frame after frame: the snapshot's surface then lies between a query above
+  // the dent and the points it should find, and the tree must leave the dent's subtrees, whose
+  // points are all listed, to the list. Queries above the dent at many heights, inside the
+  // model under it, and across the whole model, against brute force; then after a swapped-in
+  // index took over the list (its subtrees counted afresh) and after forgetting it.
+  PointModel m = make_sphere(20000);
+  PointIndex index(m);
+  index.track_moved(1 << 16);
+  const Vec3 top{0.0, 0.0, 1.0};
+  for (int frame = 0; frame < 12; ++frame) {
+    std::vector<std::uint32_t> moved;
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      const double r2 = squared_distance(m, i, top) / (0.2 * 0.2);
+      if (r2 >= 1.0) continue;
+      m.set_position(i, m.position(i) - Vec3{0.0, 0.0, 0.03 * (1.0 - r2)});
+      moved.push_back(static_cast<std::uint32_t>(i));
+    }
+    index.note_moved(m, moved, false);
+    // The first query that meets moved points makes the index keep its subtree counts from the
+    // next frame on, so the checks below use them.
+    if (frame == 0) (void)index.nearest(m, top, 0.0);
+  }
+  ASSERT_TRUE(index.moved_complete());
+  std::vector<std::uint32_t> found;
+  found.reserve(kOutCapacity);
+  auto check = [&](const char* when) {
+    int misses = 0, queries = 0;
+    for (double height = -0.6; height <= 0.6; height += 0.025) {
+      for (const double dx : {0.0, 0.05, 0.13}) {
+        const Vec3 q{dx, 0.01, 1.0 + height};
+        misses += !same_nearest(m, q, index.nearest(m, q, 0.0), brute_nearest(m, q));
+        for (const double radius : {0.06, 0.4}) {
+          EXPECT_TRUE(index.within_radius(m, q, radius, found, 0.0));
+          misses += found != oracle_within(m, q, radius);
+        }
+        ++queries;
+      }
+    }
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> anywhere(-1.6, 1.6);
+    for (int k = 0; k < 100; ++k, ++queries) {
+      const Vec3 q{anywhere(rng), anywhere(rng), anywhere(rng)};
+      misses += !same_nearest(m, q, index.nearest(m, q, 0.0), brute_nearest(m, q));
+      EXPECT_TRUE(index.within_radius(m, q, 0.1, found, 0.0));
+      misses += found != oracle_within(m, q, 0.1);
+    }
+    EXPECT_EQ(misses, 0) << when << ", " << queries << " queries";
+  };
+  check("pressed");
+  // A snapshot of the dent half way, swapped in: it takes over the points that still differ.
+  PointModel half = make_sphere(20000);
+  for (std::size_t i = 0; i < half.size(); ++i) half.set_position(i, (half.position(i) + m.position(i)) * 0.5);
+  PointIndex fresh(half);
+  std::swap(index, fresh);
+  index.take_moved(fresh, m);
+  ASSERT_TRUE(index.moved_complete());
+  check("after the swap");
+  m = half;
+  index.forget_moved();
+  check("back at the snapshot");
+}
+
 TEST(MovedPointsIndex, AnUndoneFrameIsToldAndStaysExact) {
   // An undo writes old positions back: the points keep their place in the list (it only ever
   // covers), and queries near both the undone and the kept positions stay exact.

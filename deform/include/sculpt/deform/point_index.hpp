@@ -114,10 +114,19 @@ class PointIndex {
 
  private:
   const MovedOverlay* usable_moved(double drift) const noexcept;
+  // Brings the tree's per-subtree counts of unlisted points up to the list.
+  void mark_listed() noexcept;
+  // Whether those counts are up to the list (the moved list must be in use).
+  bool counts_ready() const noexcept;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::unique_ptr<MovedOverlay> moved_;
   double moved_min_drift_ = 0.0;
+  // How many of the list's points the tree's counts reflect (the list's first ones).
+  std::size_t unlisted_marked_ = 0;
+  // A query asked for the list: note_moved keeps the counts up from then on. Set by const
+  // queries, so it is read and written through std::atomic_ref (queries may run concurrently).
+  mutable bool list_wanted_ = false;
 };
 
 }  // namespace sculpt::deform
