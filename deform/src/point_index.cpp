@@ -38,11 +38,6 @@ struct Snapshot {
   std::array<double, 3> low{}, high{};
 
   std::size_t kdtree_get_point_count() const { return xyz.size() / 3; }
-  /// Squared distance from q to point i here, by the index's one formula.
-  double squared_distance(std::uint32_t i, const double* q) const {
-    const float* p = &xyz[3 * static_cast<std::size_t>(i)];
-    return squared_distance_to(p[0], p[1], p[2], q);
-  }
   double kdtree_get_pt(std::uint32_t i, std::size_t dim) const {
     return static_cast<double>(xyz[3 * static_cast<std::size_t>(i) + dim]);
   }
@@ -203,7 +198,8 @@ void PointIndex::forget_moved() noexcept {
 void PointIndex::take_moved(PointIndex& previous, const PointModel& model) noexcept {
   std::swap(moved_, previous.moved_);
   std::swap(moved_min_drift_, previous.moved_min_drift_);
-  list_wanted_ = std::atomic_ref<bool>(previous.list_wanted_).load(std::memory_order_relaxed);
+  std::atomic_ref<bool>(list_wanted_)
+      .store(std::atomic_ref<bool>(previous.list_wanted_).load(std::memory_order_relaxed), std::memory_order_relaxed);
   if (!moved_ || !indexes(model)) return;
   const std::vector<float>& xyz = impl_->points.xyz;
   moved_->retain(model, [&](std::uint32_t i) {
@@ -212,7 +208,7 @@ void PointIndex::take_moved(PointIndex& previous, const PointModel& model) noexc
   });
   impl_->unlisted.reset();
   unlisted_marked_ = 0;
-  if (list_wanted_) mark_listed();
+  if (std::atomic_ref<bool>(list_wanted_).load(std::memory_order_relaxed)) mark_listed();
 }
 
 std::size_t PointIndex::moved_count() const noexcept { return moved_ ? moved_->size() : 0; }

@@ -1,6 +1,6 @@
 #pragma once
-// The k-d tree's shape with, for every subtree, how many of its points the tree still answers
-// for (those not on the moved list), so that a query which leaves the moved points to the list
+// The k-d tree's shape with, for every subtree, whether the tree still answers for any of its
+// points (any not on the moved list), so that a query which leaves the moved points to the list
 // skips whole subtrees of them.
 //
 // Why: under a deep dent the snapshot's surface lies between a finger and the points it now
