@@ -183,10 +183,14 @@ void PointIndex::note_moved(const PointModel& model, std::span<const std::uint32
 
 void PointIndex::mark_listed() noexcept {
   if (!impl_ || !moved_) return;
-  // Newly listed points are appended to the list: those leave the tree's counts.
+  // Newly listed points are appended to the list: those leave the tree's counts. At most
+  // kMarksPerCall at a time, so that an index swapped in with a long list (take_moved, in the
+  // loop's tick) catches up over a few frames; queries skip point by point meanwhile.
+  constexpr std::size_t kMarksPerCall = 8192;
   const std::span<const std::uint32_t> listed = moved_->listed();
-  for (std::size_t s = unlisted_marked_; s < listed.size(); ++s) impl_->unlisted.mark_listed(listed[s]);
-  unlisted_marked_ = listed.size();
+  const std::size_t end = std::min(listed.size(), unlisted_marked_ + kMarksPerCall);
+  for (std::size_t s = unlisted_marked_; s < end; ++s) impl_->unlisted.mark_listed(listed[s]);
+  unlisted_marked_ = end;
 }
 
 void PointIndex::forget_moved() noexcept {

@@ -636,6 +636,26 @@ TEST(MovedPointsIndex, QueriesAboveAndBelowADeepDentAreExact) {
   check("back at the snapshot");
 }
 
+TEST(MovedPointsIndex, AListLongerThanOneCatchUpIsCountedOverSeveralFramesAndStaysExact) {
+  // The index brings its subtree counts up to the list at most 8,192 points a frame (so that a
+  // swapped-in index with a long list does not stall a tick); queries in between skip listed
+  // points one by one and must be as exact as before and after.
+  PointModel m = make_sphere(40000);
+  PointIndex index(m);
+  index.track_moved(1 << 16);
+  std::mt19937 rng(13);
+  for (int frame = 0; frame < 40; ++frame) press(m, index, rng, 0.3, 0.02);
+  ASSERT_TRUE(index.moved_complete());
+  ASSERT_GT(index.moved_count(), 2u * 8192u);  // three catch-ups or more
+  int misses = 0;
+  for (int frame = 0; frame < 6; ++frame) {
+    const std::vector<std::uint32_t> moved = press(m, index, rng, 0.3, 0.02);
+    const Misses found = check_queries(m, index, rng, moved);  // the first ones ask for the counts
+    misses += found.nearest + found.within;
+  }
+  EXPECT_EQ(misses, 0);
+}
+
 TEST(MovedPointsIndex, AnUndoneFrameIsToldAndStaysExact) {
   // An undo writes old positions back: the points keep their place in the list (it only ever
   // covers), and queries near both the undone and the kept positions stay exact.
