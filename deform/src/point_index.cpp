@@ -20,16 +20,14 @@ namespace {
 // tree shallow without scanning long leaves.
 constexpr std::size_t kLeafSize = 12;
 
-// The tree searches in double (ElementType double over float storage); every bound is widened
-// (widened_bound, unlisted_tree.hpp: nanoflann admits a leaf point only when its distance is
-// strictly below the bound, and a zero radius must admit exact hits).
-double widened(double squared_bound) { return widened_bound(squared_bound); }
+// The tree searches in double (ElementType double over float storage); every bound is widened by
+// widened_bound (unlisted_tree.hpp), shared with the subtree-skipping search.
 
 // Squared snapshot-distance bound for candidates that can be within `radius` now, given that no
 // point moved more than `drift`: |q - current| <= r implies |q - snapshot| <= r + drift.
 double search_bound(double radius, double drift) {
   const double r = radius + drift;
-  return widened(r * r);
+  return widened_bound(r * r);
 }
 
 // The snapshot, interleaved xyz so a leaf scan touches one cache line per few points.
@@ -70,7 +68,7 @@ class NearestCollector {
     if (d2 < best_squared_ || (d2 == best_squared_ && i < best_index_)) {
       best_squared_ = d2;
       best_index_ = i;
-      bound_ = drift_ > 0.0 ? search_bound(std::sqrt(d2), drift_) : widened(d2);
+      bound_ = drift_ > 0.0 ? search_bound(std::sqrt(d2), drift_) : widened_bound(d2);
     }
     return true;
   }
