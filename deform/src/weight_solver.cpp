@@ -128,12 +128,23 @@ bool svd_solve(int n, const SquareRows& r, const std::array<double, kMaxUnknowns
   }
   // Converged when every pair's cosine is below n ulps (LAPACK's dgesvj uses sqrt(m) ulps).
   const double tolerance = n * std::numeric_limits<double>::epsilon();
+  // A sweep visits every pair once in a round-robin (parallel) order: the n columns, and a bye
+  // when n is odd, sit at `seats` places; each step pairs place k with place seats-1-k, then
+  // every column but the first moves one place along. A step's pairs share no column, so their
+  // rotations are independent and overlap in the pipeline; in the cyclic order each rotation
+  // waited for the one before it, a square root and two divisions deep, and that chain was most
+  // of a small solve.
+  const int seats = n + (n & 1);
+  std::array<int, L> seat{};
+  for (int i = 0; i < seats; ++i) seat[i] = i;
   constexpr int kMaxSweeps = 40;
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
     for (int i = 0; i < n; ++i) squared[i] = b[i].squaredNorm();
     bool rotated = false;
-    for (int p = 0; p + 1 < n; ++p) {
-      for (int q = p + 1; q < n; ++q) {
+    for (int step = 0; step + 1 < seats; ++step) {
+      for (int k = 0; k < seats / 2; ++k) {
+        const int p = std::min(seat[k], seat[seats - 1 - k]), q = std::max(seat[k], seat[seats - 1 - k]);
+        if (q >= n) continue;  // the bye
         const double alpha = squared[p], beta = squared[q];
         const double gamma = b[p].dot(b[q]);
         if (!(std::abs(gamma) > tolerance * std::sqrt(alpha * beta))) continue;
@@ -151,6 +162,9 @@ bool svd_solve(int n, const SquareRows& r, const std::array<double, kMaxUnknowns
         squared[p] = std::max(0.0, alpha - t * gamma);
         squared[q] = beta + t * gamma;
       }
+      const int moving = seat[seats - 1];
+      for (int i = seats - 1; i > 1; --i) seat[i] = seat[i - 1];
+      seat[1] = moving;
     }
     if (!rotated) break;
   }
@@ -240,8 +254,10 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
   }
 
   // Writes the weighted rows of conditions first..first+count (displacements first, then
-  // tractions) into a block's columns: row 3 q + c is component c of condition first + q, and
-  // column 3 s + k the coefficient of unknown (s, k), column `unknowns` the target.
+  // tractions) into a block's columns: row c kBlockConditions + q is component c of condition
+  // first + q (components apart, so that a fill's stores run along contiguous rows; the order of
+  // rows does not change R, and a block's layout does not depend on how full it is), and column 3 s + k the coefficient of unknown (s, k), column `unknowns`
+  // the target.
   auto fill_general = [&](std::size_t first, std::size_t count, BlockedQr& qr) {
     for (std::size_t q = 0; q < count; ++q) {
       const std::size_t index = first + q;
@@ -255,7 +271,6 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
         w = traction_weight;
         target = tractions[index - displacements.size()].traction;
       }
-      const std::size_t row = 3 * q;
       for (std::size_t s = 0; s < n; ++s) {
         Mat3 m;  // m(c, k): component c of the row quantity per unit force component k
         if (is_displacement) {
@@ -267,11 +282,13 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
         for (int k = 0; k < 3; ++k) {
           const double f = w * factor[s][k];
           BlockColumn& col = qr.column(static_cast<int>(3 * s) + k);
-          for (int c = 0; c < 3; ++c) col[row + static_cast<std::size_t>(c)] = m(c, k) * f;
+          for (int c = 0; c < 3; ++c)
+            col[static_cast<Eigen::Index>(static_cast<std::size_t>(c) * kBlockConditions + q)] = m(c, k) * f;
         }
       }
       BlockColumn& rhs = qr.column(unknowns);
-      for (int c = 0; c < 3; ++c) rhs[row + static_cast<std::size_t>(c)] = w * target[c];
+      for (int c = 0; c < 3; ++c)
+        rhs[static_cast<Eigen::Index>(static_cast<std::size_t>(c) * kBlockConditions + q)] = w * target[c];
     }
   };
   // The same for a block of displacement conditions only (every row of a region's band), one
@@ -287,7 +304,9 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
       pz[q] = d.point.z;
       weight[q] = d.weight;
       BlockColumn& rhs = qr.column(unknowns);
-      for (int c = 0; c < 3; ++c) rhs[static_cast<Eigen::Index>(3 * q) + c] = d.weight * d.displacement[c];
+      for (int c = 0; c < 3; ++c)
+        rhs[static_cast<Eigen::Index>(static_cast<std::size_t>(c) * kBlockConditions + q)] =
+            d.weight * d.displacement[c];
     }
     for (std::size_t s = 0; s < n; ++s) {
       const Vec3 p = sources[s].source;
@@ -304,12 +323,14 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
       for (int k = 0; k < 3; ++k) {
         const std::array<double, kBlockConditions>& rk = k == 0 ? rx : (k == 1 ? ry : rz);
         BlockColumn& col = qr.column(static_cast<int>(3 * s) + k);
+        double* x = col.data();
+        double* y = x + kBlockConditions;
+        double* z = y + kBlockConditions;
         for (std::size_t q = 0; q < count; ++q) {
           const double f = weight[q] * factor[s][k];
-          const auto row = static_cast<Eigen::Index>(3 * q);
-          col[row + 0] = ((k == 0 ? diag[q] : 0.0) + g[q] * rx[q] * rk[q]) * f;
-          col[row + 1] = ((k == 1 ? diag[q] : 0.0) + g[q] * ry[q] * rk[q]) * f;
-          col[row + 2] = ((k == 2 ? diag[q] : 0.0) + g[q] * rz[q] * rk[q]) * f;
+          x[q] = ((k == 0 ? diag[q] : 0.0) + g[q] * rx[q] * rk[q]) * f;
+          y[q] = ((k == 1 ? diag[q] : 0.0) + g[q] * ry[q] * rk[q]) * f;
+          z[q] = ((k == 2 ? diag[q] : 0.0) + g[q] * rz[q] * rk[q]) * f;
         }
       }
     }
@@ -375,7 +396,7 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
     const std::size_t count = std::min<std::size_t>(kBlockConditions, conditions - first);
     BlockedQr rows(unknowns);  // only its block is used: a scratch for the same rows
     fill(first, count, rows);
-    for (std::size_t i = 0; i < 3 * count; ++i) {
+    for (Eigen::Index i = 0; i < kBlockRows; ++i) {  // rows no condition wrote are zero
       double ax = -rows.column(unknowns)[i];
       for (std::size_t s = 0; s < n; ++s)
         for (int k = 0; k < 3; ++k) ax += rows.column(static_cast<int>(3 * s) + k)[i] * weights[s][k];

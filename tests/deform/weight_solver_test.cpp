@@ -256,6 +256,48 @@ TEST(WeightSolver, BlockedFactorMatchesADenseLeastSquaresSolve) {
   }
 }
 
+// Every source count, 1 to kMaxSources: 3 to 30 unknowns, odd and even (a round-robin sweep
+// gives an odd count a bye) and each of the SVD's three column lengths. The forces must match
+// the dense fit and the condition number Eigen's SVD of the column-equilibrated stacked rows.
+TEST(WeightSolver, EverySourceCountMatchesADenseSolveAndItsSingularValues) {
+  for (std::size_t count = 1; count <= kMaxSources; ++count) {
+    std::vector<SourceSetup> sources;
+    for (std::size_t s = 0; s < count; ++s) {
+      const double t = 0.9 * static_cast<double>(s);
+      sources.push_back({normalized(Vec3{std::cos(t), std::sin(t), 0.15 * static_cast<double>(s) - 0.7}) * 1.15, {}});
+    }
+    const std::vector<DisplacementCondition> bcs =
+        noisy_conditions(200 + static_cast<unsigned>(count), 40 * static_cast<int>(count), 1.0);
+    const DenseFit truth = dense_fit(kKelvin, sources, bcs);
+    WeightSolver solver({WeightForm::kForce});
+    std::vector<Vec3> weights(count), effective(count);
+    const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+    ASSERT_TRUE(r.ok) << count;
+    ASSERT_EQ(r.rank, 3 * count) << count;
+    double largest = 0.0;
+    for (const Vec3& f : truth.forces) largest = std::max(largest, norm(f));
+    for (std::size_t s = 0; s < count; ++s) {
+      EXPECT_LT(norm(effective[s] - truth.forces[s]), 1e-7 * largest) << count << " source " << s;
+    }
+
+    const auto rows = static_cast<Eigen::Index>(3 * bcs.size());
+    const auto cols = static_cast<Eigen::Index>(3 * count);
+    Eigen::MatrixXd a(rows, cols);
+    for (std::size_t i = 0; i < bcs.size(); ++i) {
+      for (std::size_t s = 0; s < count; ++s) {
+        const Mat3 m = displacement_matrix(kKelvin, sources[s].source, bcs[i].point);
+        for (int c = 0; c < 3; ++c)
+          for (int j = 0; j < 3; ++j)
+            a(static_cast<Eigen::Index>(3 * i) + c, static_cast<Eigen::Index>(3 * s) + j) = bcs[i].weight * m(c, j);
+      }
+    }
+    for (Eigen::Index j = 0; j < cols; ++j) a.col(j) /= a.col(j).norm();
+    const Eigen::VectorXd sigma = Eigen::JacobiSVD<Eigen::MatrixXd>(a).singularValues();
+    const double expected = sigma(0) / sigma(cols - 1);
+    EXPECT_NEAR(r.condition, expected, 1e-6 * expected) << count;
+  }
+}
+
 // Rows scaled far toward the ends of the double range (every condition's weight 1e-140 or
 // 1e140, so their squares leave it) give the same forces: the reflector's lengths are then
 // taken with the largest magnitude factored out.
