@@ -462,10 +462,15 @@ struct JournalWriter {
     copy(j.x_.data() + at, x, n);
     copy(j.y_.data() + at, y, n);
     copy(j.z_.data() + at, z, n);
-    if (j.normals_ && nx) {
-      copy(j.nx_.data() + at, nx, n);
-      copy(j.ny_.data() + at, ny, n);
-      copy(j.nz_.data() + at, nz, n);
+    if (j.normals_) {
+      // Blocks start at multiples of kBlock slots: one flag per block says whether its normals
+      // were recorded (a bounded pass leaves the normals of a block it skips untouched).
+      j.block_normals_[at / kBlock] = nx != nullptr;
+      if (nx) {
+        copy(j.nx_.data() + at, nx, n);
+        copy(j.ny_.data() + at, ny, n);
+        copy(j.nz_.data() + at, nz, n);
+      }
     }
   }
 };
@@ -480,6 +485,7 @@ void UndoJournal::reserve(std::size_t points, bool normals) {
   nx_.assign(normals ? points : 0, 0.0f);
   ny_.assign(normals ? points : 0, 0.0f);
   nz_.assign(normals ? points : 0, 0.0f);
+  block_normals_.assign(normals ? (points + kBlock - 1) / kBlock : 0, 0);
 }
 
 void UndoJournal::restore(PointModel& model) const noexcept {
@@ -489,7 +495,7 @@ void UndoJournal::restore(PointModel& model) const noexcept {
     model.x[i] = x_[k];
     model.y[i] = y_[k];
     model.z[i] = z_[k];
-    if (normals) {
+    if (normals && block_normals_[k / kBlock]) {
       model.nx[i] = nx_[k];
       model.ny[i] = ny_[k];
       model.nz[i] = nz_[k];
@@ -564,17 +570,25 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
       x = model.x.data() + begin;
       y = model.y.data() + begin;
       z = model.z.data() + begin;
-      if constexpr (kCarry) {
-        nx = model.nx.data() + begin;
-        ny = model.ny.data() + begin;
-        nz = model.nz.data() + begin;
-      }
     } else {
       x = gx;
       y = gy;
       z = gz;
       copy_indexed<true>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
-      if constexpr (kCarry) {
+    }
+    double bound = 0.0;
+    if constexpr (kBounded) bound = block_gradient_bound(t, x, y, z, n);
+    // A block whose bound passes keeps its normals as they are: they are neither read, nor
+    // journaled, nor checked (unchanged, they are as finite as they were). On a global bounded
+    // frame that is most blocks, and half the arrays a block would otherwise stream.
+    const bool skip_block = kBounded && bound <= static_cast<double>(t.skip_bound);
+    const bool normals_here = kCarry && !skip_block;
+    if (normals_here) {
+      if constexpr (kContiguous) {
+        nx = model.nx.data() + begin;
+        ny = model.ny.data() + begin;
+        nz = model.nz.data() + begin;
+      } else {
         nx = gnx;
         ny = gny;
         nz = gnz;
@@ -588,9 +602,7 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     b.qx = x;
     b.qy = y;
     b.qz = z;
-    double bound = 0.0;
-    if constexpr (kBounded) bound = block_gradient_bound(t, x, y, z, n);
-    if (kBounded && bound <= static_cast<double>(t.skip_bound)) {
+    if (skip_block) {
       add_sources<T, false>(t, b, gb);
       finish_block<T, false, false>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
       skips.skipped += n;
@@ -606,11 +618,11 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
       finish_block<T, kGradient, kCarry>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
       if constexpr (kGradient) bad |= non_finite_bits(dets, n);
     }
-    if constexpr (kCarry) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
+    if (normals_here) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
     bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
     if constexpr (!kContiguous) {
       copy_indexed<false>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
-      if constexpr (kCarry) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
+      if (normals_here) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
     }
   }
   if constexpr (kContiguous) {

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "sculpt/deform/displacement_field.hpp"
@@ -191,10 +192,16 @@ TEST(BoundedNormals, AFrameThatFoldsIsSeenFolding) {
   EXPECT_GT(b.gradients_skipped, 0u);
 }
 
+// Half the model, as an index set (a pass over it gathers and scatters its blocks).
+std::vector<std::uint32_t> every_other_point(const PointModel& m) {
+  std::vector<std::uint32_t> points;
+  for (std::uint32_t i = 0; i < m.size(); i += 2) points.push_back(i);
+  return points;
+}
+
 TEST(BoundedNormals, AnIndexSetAndTheSecondCoreGiveTheSameBytes) {
   const Frame f = five_fingers();
-  std::vector<std::uint32_t> every_other;
-  for (std::uint32_t i = 0; i < f.base.size(); i += 2) every_other.push_back(i);
+  const std::vector<std::uint32_t> every_other = every_other_point(f.base);
   FieldWorker worker;
   for (bool global : {true, false}) {
     SCOPED_TRACE(global ? "global" : "index set");
@@ -215,6 +222,40 @@ TEST(BoundedNormals, AnIndexSetAndTheSecondCoreGiveTheSameBytes) {
     // The journal undoes the bounded pass to the last byte, normals included.
     journal.restore(two);
     EXPECT_TRUE(same_bytes(two.x, f.base.x) && same_bytes(two.nx, f.base.nx) && same_bytes(two.nz, f.base.nz));
+  }
+}
+
+// A bounded pass leaves the normals of the blocks it skips untouched and does not journal them.
+// The journal still holds an earlier pass's normals there: undoing the bounded pass must not
+// write those back. An exact pass first (it moves every normal), then a bounded one on the same
+// journal, then the undo: the model must be the exact pass's, to the byte.
+TEST(BoundedNormals, UndoingABoundedPassLeavesTheNormalsItSkippedAsTheyWere) {
+  const Frame f = five_fingers();
+  const std::vector<std::uint32_t> every_other = every_other_point(f.base);
+  FieldWorker worker;
+  for (bool global : {true, false}) {
+    for (FieldWorker* second : {static_cast<FieldWorker*>(nullptr), &worker}) {
+      SCOPED_TRACE(std::string(global ? "global" : "index set") + (second ? ", two cores" : ", one core"));
+      const std::span<const std::uint32_t> points = global ? std::span<const std::uint32_t>() : every_other;
+      PointModel model = f.base;
+      UndoJournal journal;
+      journal.reserve(f.base.size(), true);
+      const FieldOptions exact{Precision::kFloat, true, 0.0};
+      ASSERT_TRUE(
+          apply_displacements(model, Kernel{}, f.sources, points, global, exact, true, &journal, second).finite);
+      const PointModel after_exact = model;
+      ASSERT_FALSE(same_bytes(after_exact.nx, f.base.nx));
+      const FieldOptions bounded{Precision::kFloat, true, 1e-2};
+      const FieldResult r =
+          apply_displacements(model, Kernel{}, f.sources, points, global, bounded, true, &journal, second);
+      ASSERT_TRUE(r.finite);
+      EXPECT_GT(r.gradients_skipped, 0u);
+      journal.restore(model);
+      EXPECT_TRUE(same_bytes(model.x, after_exact.x) && same_bytes(model.y, after_exact.y) &&
+                  same_bytes(model.z, after_exact.z));
+      EXPECT_TRUE(same_bytes(model.nx, after_exact.nx) && same_bytes(model.ny, after_exact.ny) &&
+                  same_bytes(model.nz, after_exact.nz));
+    }
   }
 }
 
