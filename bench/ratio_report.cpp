@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace sculpt::bench {
 
@@ -56,18 +57,30 @@ void RatioReporter::Finalize() {
       "positions; T(100k) = the same pass on 100,250 points, the issue's yardstick for every model size):\n");
   std::printf("%-52s %10s %9s %10s %9s %12s\n", "frame", "ms", "x T", "x T(100k)", "x S", "bytes/point");
   const auto bare_100k = results_.find(bare_name(100250));
+  bool missing = false;
   for (const std::string& name : order_) {
     const Result& r = results_.at(name);
     if (!(r.points > 0.0)) continue;  // a yardstick itself
     const auto n = static_cast<std::size_t>(std::llround(r.points));
     const auto bare = results_.find(bare_name(n)), stream = results_.find(stream_name(n));
     const double ms = r.threaded ? r.real_ms : r.cpu_ms;
-    auto ratio = [&](const auto& it) {
-      if (it == results_.end()) return static_cast<double>(NAN);
-      return ms / (r.threaded ? it->second.real_ms : it->second.cpu_ms);
+    // A yardstick the filter left out leaves its column empty ("-"), said below the table.
+    auto ratio = [&](const auto& it, int width, int decimals) {
+      char cell[32];
+      if (it == results_.end()) {
+        missing = true;
+        std::snprintf(cell, sizeof cell, "%*s", width, "-");
+      } else {
+        std::snprintf(cell, sizeof cell, "%*.*f", width, decimals,
+                      ms / (r.threaded ? it->second.real_ms : it->second.cpu_ms));
+      }
+      return std::string(cell);
     };
-    std::printf("%-52s %10.4f %9.2f %10.3f %9.2f %12.0f\n", name.c_str(), ms, ratio(bare), ratio(bare_100k),
-                ratio(stream), r.bytes_per_point);
+    std::printf("%-52s %10.4f %s %s %s %12.0f\n", name.c_str(), ms, ratio(bare, 9, 2).c_str(),
+                ratio(bare_100k, 10, 3).c_str(), ratio(stream, 9, 2).c_str(), r.bytes_per_point);
+  }
+  if (missing) {
+    std::printf("(-: its yardstick did not run; add Bare5|Stream to --benchmark_filter for every ratio)\n");
   }
   for (const std::string& name : order_) {
     const Result& r = results_.at(name);
