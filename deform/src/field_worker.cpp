@@ -5,7 +5,13 @@
 namespace sculpt::deform {
 
 namespace {
+// How long the worker spins for the next frame before it sleeps.
 constexpr std::chrono::microseconds kSpin{200};
+// How long the caller spins for the worker's half before it sleeps: shorter, because a caller
+// that spins while the worker waits for a core (the station's I/O and logger threads share it)
+// only delays it. Measured with 100 us halves a 300 us gap apart (3,000 calls, three runs):
+// median 139-149 us a call sleeping at once, 107-111 us with this spin.
+constexpr std::chrono::microseconds kJoinSpin{50};
 }  // namespace
 
 FieldWorker::FieldWorker() : thread_([this] { loop(); }) {}
@@ -26,9 +32,17 @@ void FieldWorker::run_both(Task task, void* context) noexcept {
   posted_.notify_one();
   task(context, 0);
   // Acquire: the worker's half of the results is visible here once it reports the generation.
-  for (std::uint64_t seen = done_.load(std::memory_order_acquire); seen != generation;
-       seen = done_.load(std::memory_order_acquire)) {
+  // The two halves are the same size, so the worker's usually ends within microseconds of this
+  // one: spin for it before sleeping (a futex wake-up costs tens of microseconds on a VM).
+  std::uint64_t seen = done_.load(std::memory_order_acquire);
+  const auto spin_until = std::chrono::steady_clock::now() + kJoinSpin;
+  while (seen != generation && std::chrono::steady_clock::now() < spin_until) {
+    __builtin_ia32_pause();
+    seen = done_.load(std::memory_order_acquire);
+  }
+  while (seen != generation) {
     done_.wait(seen, std::memory_order_acquire);
+    seen = done_.load(std::memory_order_acquire);
   }
 }
 
