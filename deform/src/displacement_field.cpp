@@ -409,36 +409,27 @@ class GradientBatch {
   std::uint32_t at_[2 * kBlock];
 };
 
-// The per-point step of a bounded block whose `bound` the displacement pass summed, before the
-// block moves: the skipped points' extremes are kept per block lane (a scalar running max does
-// not vectorise); the points over the tolerance go to the batch, or, when they are most of the
-// block, the whole block's gradient is computed in place (gathering would cost more) and none
+// Whether most of a bounded block's points need their gradient (their `bound`, summed by the
+// displacement pass, is over the tolerance; NaN compares false: needed). Such a block is computed
+// in place as the exact pass computes it, since gathering its points would cost more, and none
 // of its points counts as skipped.
-template <typename T, bool kCarry>
-void point_bounded_gradient(const SourceTable<T>& t, const Block<T>& b, GradientBlock<T>& gb, float* nx, float* ny,
-                            float* nz, std::size_t offset, GradientBatch<T, kCarry>& batch, T* __restrict lane_min_det,
-                            std::uint32_t& bad, SkipLanes<T>& lanes) {
+template <typename T>
+bool most_need_gradient(const SourceTable<T>& t, const Block<T>& b) {
   const T tolerance = t.skip_bound;
   std::uint32_t needed = 0;
   for (std::size_t k = 0; k < b.size; ++k) needed += static_cast<std::uint32_t>(!(b.bound[k] <= tolerance));
-  if (2 * needed > b.size) {
-    Block<T> whole;  // its own sums: b's displacement is still to be added
-    whole.size = b.size;
-    whole.qx = b.qx;
-    whole.qy = b.qy;
-    whole.qz = b.qz;
-    add_sources<T, true>(t, whole, gb);
-    alignas(64) T dets[kBlock];
-    for (std::size_t k = 0; k < b.size; ++k) {
-      float unused = 0.0f;
-      const T det = kCarry ? jacobian_and_normal<T, true>(gb, k, nx[k], ny[k], nz[k])
-                           : jacobian_and_normal<T, false>(gb, k, unused, unused, unused);
-      dets[k] = det;
-      lane_min_det[k] = det < lane_min_det[k] ? det : lane_min_det[k];
-    }
-    bad |= non_finite_bits(dets, b.size);
-    return;
-  }
+  return 2 * needed > b.size;
+}
+
+// The per-point step of a bounded block whose `bound` the displacement pass summed, before the
+// block moves: the skipped points' extremes are kept per block lane (a scalar running max does
+// not vectorise) and the points over the tolerance go to the batch.
+template <typename T, bool kCarry>
+void point_bounded_gradient(const SourceTable<T>& t, const Block<T>& b, GradientBlock<T>& gb, std::size_t offset,
+                            GradientBatch<T, kCarry>& batch, T* __restrict lane_min_det, std::uint32_t& bad,
+                            SkipLanes<T>& lanes) {
+  const T tolerance = t.skip_bound;
+  std::uint32_t needed = 0;
   for (std::size_t k = 0; k < b.size; ++k) {
     const T bound = b.bound[k];
     const bool skip = bound <= tolerance;
@@ -447,6 +438,7 @@ void point_bounded_gradient(const SourceTable<T>& t, const Block<T>& b, Gradient
     lanes.min_det_floor[k] = skip && det_floor < lanes.min_det_floor[k] ? det_floor : lanes.min_det_floor[k];
     lanes.max_bound[k] = skip && bound > lanes.max_bound[k] ? bound : lanes.max_bound[k];
     lanes.skipped[k] += static_cast<std::uint32_t>(skip);
+    needed += static_cast<std::uint32_t>(!skip);
   }
   if (needed > 0) batch.append(t, b, needed, offset, gb, lane_min_det, bad);
 }
@@ -665,6 +657,20 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     b.qx = x;
     b.qy = y;
     b.qz = z;
+    // A bounded block over the tolerance first sums each point's bound with its displacement;
+    // unless most of its points need their gradient, those few are batched and the block moves.
+    bool exact = !skip_block;
+    if constexpr (kBounded) {
+      if (!skip_block) {
+        add_sources<T, false, true>(t, b, gb);
+        exact = most_need_gradient(t, b);
+        if (!exact) {
+          point_bounded_gradient<T, kCarry>(t, b, gb, kContiguous ? begin : 0, batch, lane_min_det, bad, skip_lanes);
+          if constexpr (!kContiguous) batch.flush(t, gb, lane_min_det, bad);
+          finish_block<T, false, false>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
+        }
+      }
+    }
     if (skip_block) {
       add_sources<T, false>(t, b, gb);
       finish_block<T, false, false>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
@@ -672,13 +678,7 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
       skips.max_skipped_bound = std::max(skips.max_skipped_bound, bound);
       const double floor = 1.0 - bound;
       skips.min_det_floor = std::min(skips.min_det_floor, floor * floor * floor);
-    } else if (kBounded) {
-      add_sources<T, false, true>(t, b, gb);
-      point_bounded_gradient<T, kCarry>(t, b, gb, nx, ny, nz, kContiguous ? begin : 0, batch, lane_min_det, bad,
-                                        skip_lanes);
-      if constexpr (!kContiguous) batch.flush(t, gb, lane_min_det, bad);
-      finish_block<T, false, false>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
-    } else {
+    } else if (exact) {
       add_sources<T, kGradient>(t, b, gb);
       finish_block<T, kGradient, kCarry>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
       if constexpr (kGradient) bad |= non_finite_bits(dets, n);
