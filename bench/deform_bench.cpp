@@ -65,7 +65,7 @@ std::vector<ProbeMotion> spread_probes(const PointModel& m, std::size_t fingers,
 }
 
 void frame(benchmark::State& state, const std::string& name, Precision precision, double region_spacings,
-           int threads = 1, double normal_skip_bound = 0.0) {
+           int threads = 1, double normal_skip_bound = 0.0, bool fast_inverse_sqrt = false) {
   const PointModel* source = load(name);
   if (!source) {
     state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
@@ -82,6 +82,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   settings.field.precision = precision;
   settings.threads = threads;
   settings.field.normal_skip_bound = normal_skip_bound;
+  settings.field.fast_inverse_sqrt = fast_inverse_sqrt;
   settings.measure_extremes = false;  // as the station runs it: a report's diagnostic, not the frame
   if (region_spacings > 0.0) {
     settings.region.kind = RegionSettings::Kind::kRadius;
@@ -111,6 +112,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   exact_settings.region = RegionSettings{};
   exact_settings.threads = 1;
   exact_settings.field.normal_skip_bound = 0.0;
+  exact_settings.field.fast_inverse_sqrt = false;
   Deformer exact_deformer(exact, exact_settings);
   const double scale = exact_deformer.deform(probes).max_displacement;
   double worst = 0.0;
@@ -210,6 +212,12 @@ void register_all() {
         ->Arg(2)
         ->Arg(3)
         ->Unit(benchmark::kMicrosecond);
+    if (p == Precision::kFloat) {
+      RegisterBenchmark((std::string("Sphere3203/global_fast_isqrt/") + tag).c_str(),
+                        [p](benchmark::State& s) { frame(s, "sphere", p, 0.0, 1, 0.0, true); })
+          ->Arg(3)
+          ->Unit(benchmark::kMicrosecond);
+    }
     for (const char* scan : {"snowden_54559.ply", "dragon_100250.ply", "dragon_437645.ply"}) {
       const std::string name = scan;
       RegisterBenchmark(("Scan/" + name + "/global/" + tag).c_str(),
@@ -234,6 +242,18 @@ void register_all() {
           ->Arg(5)
           ->UseRealTime()
           ->Unit(ms);
+      // 1/r from the processor's estimate (FieldOptions::fast_inverse_sqrt; float only).
+      if (p == Precision::kFloat) {
+        RegisterBenchmark(("Scan/" + name + "/global_fast_isqrt/" + tag).c_str(),
+                          [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 1, 0.0, true); })
+            ->Arg(5)
+            ->Unit(ms);
+        RegisterBenchmark(("Scan/" + name + "/global_fast_isqrt_2threads/" + tag).c_str(),
+                          [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 2, 0.0, true); })
+            ->Arg(5)
+            ->UseRealTime()
+            ->Unit(ms);
+      }
       RegisterBenchmark(("Scan/" + name + "/region20/" + tag).c_str(),
                         [p, name](benchmark::State& s) { frame(s, name, p, 20.0); })
           ->Arg(1)

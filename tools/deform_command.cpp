@@ -16,6 +16,7 @@
 #include "output_paths.hpp"
 #include "repeat_timing.hpp"
 #include "sculpt/deform/deformer.hpp"
+#include "sculpt/deform/inverse_sqrt.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
@@ -98,7 +99,12 @@ class DeformCommand final : public Command {
         ->needs(region_option_);
     reference_option_ = sub_->add_option("--reference", reference_text_,
                                          "X,Y,Z point known to be outside (for models without normals)");
-    sub_->add_flag("--double", use_double_, "Evaluate the per-point loop in double instead of float");
+    CLI::Option* double_flag =
+        sub_->add_flag("--double", use_double_, "Evaluate the per-point loop in double instead of float");
+    sub_->add_flag("--fast-inverse-sqrt", fast_inverse_sqrt_,
+                   "An approximation (float only): 1/r from the processor's reciprocal square root estimate and one "
+                   "Newton step (relative error below 2^-21) instead of a square root and a division")
+        ->excludes(double_flag);
     sub_->add_option("--threads", threads_, "2: a worker on a second core takes half of a large displacement pass")
         ->check(CLI::Range(1, 2))
         ->default_val(1);
@@ -219,6 +225,7 @@ class DeformCommand final : public Command {
     settings.field.precision = use_double_ ? deform::Precision::kDouble : deform::Precision::kFloat;
     settings.threads = threads_;
     settings.field.normal_skip_bound = normal_skip_bound_;
+    settings.field.fast_inverse_sqrt = fast_inverse_sqrt_;
     if (region_option_->count()) {
       settings.region.kind = deform::RegionSettings::Kind::kRadius;
       settings.region.radius = region_radius_;
@@ -399,6 +406,7 @@ class DeformCommand final : public Command {
             {"rejected", r.rejected},
             {"min_jacobian", r.min_jacobian},
             {"normal_skip_bound", s.field.normal_skip_bound},
+            {"fast_inverse_sqrt", s.field.fast_inverse_sqrt},
             {"normals_bounded", r.normals_bounded},
             {"max_normal_bound_angle", r.max_normal_bound_angle},
             {"max_miss", r.max_miss},
@@ -443,6 +451,10 @@ class DeformCommand final : public Command {
       std::printf("normals  %zu kept under the bound %g (each within %.3g rad of the carried one)\n", r.normals_bounded,
                   s.field.normal_skip_bound, r.max_normal_bound_angle);
     }
+    if (s.field.fast_inverse_sqrt) {
+      std::printf("1/r      %s estimate and one Newton step (relative error below 2^-21)\n",
+                  deform::inverse_sqrt_estimate_kind());
+    }
     std::printf("guards   min det(I + grad u) %.4g, miss %.4g%s;", r.min_jacobian, r.max_miss,
                 r.rejected ? ", frame undone" : "");
     const std::string guards = acted_guards(r.guards, ' ');
@@ -464,6 +476,7 @@ class DeformCommand final : public Command {
   int repeat_ = 1;
   int threads_ = 1;
   double normal_skip_bound_ = 0.0;
+  bool fast_inverse_sqrt_ = false;
   std::string model_path_, out_path_, json_path_, kernel_, form_, mode_, reference_text_, encoding_;
   std::vector<std::string> contacts_;
   deform::Material material_;

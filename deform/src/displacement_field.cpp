@@ -1,5 +1,7 @@
 #include "sculpt/deform/displacement_field.hpp"
 
+#include "sculpt/deform/inverse_sqrt.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -25,6 +27,8 @@ struct SourceTable {
   std::array<T, kMaxSources> bound_r2{}, bound_r4{};
   T alpha{}, beta{}, gamma{}, eps2{};
   T skip_bound{};  // 0: every gradient is computed
+  // FieldOptions::fast_inverse_sqrt: 1/r from inverse_sqrt_estimate() (float only).
+  bool fast_inverse_sqrt = false;
 };
 
 template <typename T>
@@ -88,25 +92,40 @@ struct GradientBlock {
 // not contract a*b+c on its own).
 // With `kBound` (and no gradient), the block's `bound` sums each source's bound on ||grad u||_2
 // instead, from the same reciprocal: three more operations where the gradient costs thirty.
-template <typename T, bool kGradient, bool kFirst, bool kBound>
+// With `kEstimate` (FieldOptions::fast_inverse_sqrt), 1/r comes from inverse_sqrt_estimate() over
+// the block's r^2 first, in place of a square root and a division per point; everything else is
+// the same, so the displacement-only, bounded and gradient passes still agree bit for bit.
+template <typename T, bool kGradient, bool kFirst, bool kBound, bool kEstimate>
 void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb);
 
-template <typename T, bool kGradient, bool kBound = false>
-void add_sources(const SourceTable<T>& t, Block<T>& b, GradientBlock<T>& gb) {
-  static_assert(!(kGradient && kBound), "the bound stands in for the gradient");
+template <typename T, bool kGradient, bool kBound, bool kEstimate>
+void add_sources_with(const SourceTable<T>& t, Block<T>& b, GradientBlock<T>& gb) {
   for (std::size_t s = 0; s < t.count; ++s) {
     if (s == 0) {
-      add_source<T, kGradient, true, kBound>(t, s, b, gb);
+      add_source<T, kGradient, true, kBound, kEstimate>(t, s, b, gb);
     } else {
-      add_source<T, kGradient, false, kBound>(t, s, b, gb);
+      add_source<T, kGradient, false, kBound, kEstimate>(t, s, b, gb);
     }
   }
 }
 
+template <typename T, bool kGradient, bool kBound = false>
+void add_sources(const SourceTable<T>& t, Block<T>& b, GradientBlock<T>& gb) {
+  static_assert(!(kGradient && kBound), "the bound stands in for the gradient");
+  if constexpr (std::is_same_v<T, float>) {
+    if (t.fast_inverse_sqrt) {
+      add_sources_with<T, kGradient, kBound, true>(t, b, gb);
+      return;
+    }
+  }
+  add_sources_with<T, kGradient, kBound, false>(t, b, gb);
+}
+
 // One source over the block. The first one starts the sums from zero in registers (same
 // values as adding to zeroed arrays, without clearing twelve arrays per block first).
-template <typename T, bool kGradient, bool kFirst, bool kBound>
+template <typename T, bool kGradient, bool kFirst, bool kBound, bool kEstimate>
 void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb) {
+  static_assert(!kEstimate || std::is_same_v<T, float>, "the estimate is a float one");
   const std::size_t n = b.size;
   const T alpha = t.alpha, beta = t.beta, gamma = t.gamma, eps2 = t.eps2;
   const T minus_alpha = -alpha, minus_3beta = -(T(3) * beta), minus_3gamma = T(-3) * gamma;
@@ -126,11 +145,23 @@ void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlo
       return acc[k];
     }
   };
+  alignas(64) T estimate[kEstimate ? kBlock : 1];  // 1/r, when it is estimated
+  if constexpr (kEstimate) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const T rx = T(qx[k]) - px, ry = T(qy[k]) - py, rz = T(qz[k]) - pz;
+      estimate[k] = rx * rx + ry * ry + rz * rz + eps2;
+    }
+    inverse_sqrt_estimate(estimate, n);
+  }
 #pragma GCC ivdep
   for (std::size_t k = 0; k < n; ++k) {
     const T rx = T(qx[k]) - px, ry = T(qy[k]) - py, rz = T(qz[k]) - pz;
-    const T r2 = rx * rx + ry * ry + rz * rz + eps2;
-    const T inv = T(1) / std::sqrt(r2);
+    T inv;
+    if constexpr (kEstimate) {
+      inv = estimate[k];
+    } else {
+      inv = T(1) / std::sqrt(rx * rx + ry * ry + rz * rz + eps2);
+    }
     const T inv2 = inv * inv;
     const T inv3 = inv2 * inv;
     const T rf = rx * fx + ry * fy + rz * fz;
@@ -770,9 +801,10 @@ FieldResult apply_variant(PointModel& model, const SourceTable<T>& t, std::size_
 template <typename T>
 FieldResult apply_in(PointModel& model, const Kernel& kernel, std::span<const SourceForce> sources,
                      std::span<const std::uint32_t> indices, bool all_points, bool carry_normals, bool jacobian,
-                     double skip_bound, UndoJournal* journal, FieldWorker* worker) {
+                     const FieldOptions& options, UndoJournal* journal, FieldWorker* worker) {
   SourceTable<T> table = make_table<T>(kernel, sources);
-  table.skip_bound = static_cast<T>(skip_bound);
+  table.skip_bound = static_cast<T>(options.normal_skip_bound);
+  table.fast_inverse_sqrt = options.fast_inverse_sqrt;
   if (all_points) {
     return apply_variant<T, true>(
         model, table, model.size(), [](std::size_t k) { return k; }, carry_normals, jacobian, journal, worker);
@@ -799,11 +831,9 @@ FieldResult apply_displacements(PointModel& model, const Kernel& kernel, std::sp
   if (sources.empty()) return {};
   const bool normals = options.carry_normals && model.has_normals();
   if (options.precision == Precision::kDouble) {
-    return apply_in<double>(model, kernel, sources, indices, all_points, normals, jacobian, options.normal_skip_bound,
-                            journal, worker);
+    return apply_in<double>(model, kernel, sources, indices, all_points, normals, jacobian, options, journal, worker);
   }
-  return apply_in<float>(model, kernel, sources, indices, all_points, normals, jacobian, options.normal_skip_bound,
-                         journal, worker);
+  return apply_in<float>(model, kernel, sources, indices, all_points, normals, jacobian, options, journal, worker);
 }
 
 }  // namespace sculpt::deform

@@ -139,7 +139,7 @@ void read_heuristic(const Section& root, Scene& scene) {
 void read_deform(const Section& root, Scene& scene) {
   const Section s =
       root.table("deform", {"form", "mode", "bc_radius", "delta_s", "delta_d", "delta_r", "precision", "carry_normals",
-                            "normal_skip_bound", "border_weight", "max_patch_points", "threads"});
+                            "normal_skip_bound", "fast_inverse_sqrt", "border_weight", "max_patch_points", "threads"});
   auto& d = scene.deform;
   d.form = s.choice<deform::WeightForm>("form",
                                         {{"scale", deform::WeightForm::kScale}, {"force", deform::WeightForm::kForce}})
@@ -166,6 +166,12 @@ void read_deform(const Section& root, Scene& scene) {
   }
   d.normal_skip_bound =
       s.number_in("normal_skip_bound", 0.0, false, deform::kMaxNormalSkipBound, false).value_or(d.normal_skip_bound);
+  if (const auto fast = s.boolean("fast_inverse_sqrt")) {
+    if (*fast && d.precision == deform::Precision::kDouble) {
+      s.fail("fast_inverse_sqrt", "only the float loop has it (deform.precision is 'double')");
+    }
+    d.fast_inverse_sqrt = *fast;
+  }
   if (const auto weight = s.non_negative("border_weight")) {
     if (scene.heuristic.region == RegionChoice::kGlobal) {
       s.fail("border_weight", "only used with a localised region (heuristic.region is 'global')");

@@ -137,6 +137,7 @@ StationSetup prepare_station(const Scene& scene) {
   d.threads = scene.deform.threads;
   d.field.carry_normals = scene.deform.carry_normals;
   d.field.normal_skip_bound = scene.deform.normal_skip_bound;
+  d.field.fast_inverse_sqrt = scene.deform.fast_inverse_sqrt;
   d.region.border_weight = scene.deform.border_weight;
   switch (scene.heuristic.region) {
     case RegionChoice::kGlobal: st.region.kind = RegionPolicy::Kind::kGlobal; break;

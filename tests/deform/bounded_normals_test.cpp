@@ -21,6 +21,7 @@
 #include "sculpt/deform/displacement_field.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/kernel.hpp"
+#include "deform/five_finger_frame.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -89,32 +90,14 @@ TEST(BoundedNormals, TheBoundIsAboveTheGradientsNormEverywhere) {
   }
 }
 
-struct Frame {
-  PointModel base;
-  std::vector<SourceForce> sources;
-};
-
-// Five fingers pressing into the top of a 40,000-point sphere, 0.05 above it, with forces that
-// move the nearest points by a few hundredths (in units of 1 / alpha, so the material's G drops
-// out).
-Frame five_fingers() {
-  Frame f{make_sphere(40000), {}};
-  const double unit = 0.005 / coefficients(Kernel{}).alpha;
-  for (int s = 0; s < 5; ++s) {
-    const double a = 0.25 * (s - 2);
-    f.sources.push_back({{a, 0.1 * s, 1.05}, Vec3{0.01 * s - 0.02, 0.01, -0.04} * unit});
-  }
-  return f;
-}
+using frames::five_fingers;
+using frames::Frame;
+using frames::same_bytes;
 
 double angle(double ax, double ay, double az, double bx, double by, double bz) {
   const double c =
       (ax * bx + ay * by + az * bz) / std::sqrt((ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz));
   return std::acos(std::clamp(c, -1.0, 1.0));
-}
-
-bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
 TEST(BoundedNormals, PositionsAreExactAndEachNormalIsExactOrWithinItsBound) {

@@ -141,6 +141,7 @@ TEST(Scene, DefaultsAreApplied) {
   EXPECT_FALSE(s.deform.delta_r);
   EXPECT_EQ(s.deform.precision, deform::Precision::kFloat);
   EXPECT_TRUE(s.deform.carry_normals);
+  EXPECT_FALSE(s.deform.fast_inverse_sqrt);
   EXPECT_DOUBLE_EQ(s.deform.border_weight, 1.0);
   EXPECT_EQ(s.deform.threads, 1);
   EXPECT_EQ(s.heuristic.region, RegionChoice::kGlobal);
@@ -409,6 +410,10 @@ flush_interval_ms = 20
   EXPECT_DOUBLE_EQ(s.output.flush_interval_ms, 20.0);
 }
 
+TEST(Scene, FastInverseSqrtIsReadInFloat) {
+  EXPECT_TRUE(parse(kMinimal + "[deform]\nfast_inverse_sqrt = true\n").deform.fast_inverse_sqrt);
+}
+
 TEST(Scene, LandmarksAreParsed) {
   const Scene s = parse(kMinimal + R"([registration]
 landmarks = [
@@ -673,6 +678,8 @@ interface = 0
        "model.reference", 4, "only used with model.normals = 'none'"},
       {"border weight on a global region", kMinimal + "[deform]\nborder_weight = 2\n", "deform.border_weight", 9,
        "only used with a localised region"},
+      {"fast 1/r in double", kMinimal + "[deform]\nprecision = \"double\"\nfast_inverse_sqrt = true\n",
+       "deform.fast_inverse_sqrt", 10, "only the float loop has it"},
       {"angles from the sim glove", kMinimal + "[hand]\nkind = \"angles\"\n", "hand.kind", 9,
        "sim glove sends fingertip positions"},
       {"flush interval without a log", kMinimal + "[output]\nflush_interval_ms = 50\n", "output.flush_interval_ms", 9,

@@ -4,6 +4,8 @@
 #  - float against double: the float row's largest error lies between 1e-8 and 1e-4 of the
 #    largest displacement (float carries 24 bits: about 6e-8 of a coordinate of the unit
 #    sphere, far below the 0.08 press and far above double's 1e-16);
+#  - fast 1/r (the processor's estimate, 2^-21 relative): its error against double is below
+#    twice float's own (it adds one estimate's error, a few float roundings, to float's);
 #  - the region: its error does not grow as the region grows, and at 40 spacings (2.4 on the
 #    unit sphere of spacing 0.06: the whole model, diameter 2, and its band) it is that of float;
 #  - the Pareto front: the non-dominated rows, computed here from the CSV, are exactly the rows
@@ -85,6 +87,14 @@ else:
     print(f"float: max error {num(f, 'max_error'):.3g}, largest displacement {num(f, 'max_displacement'):.3g}, ratio {ratio:.3g}")
     if not (1e-8 <= ratio <= 1e-4):
         bad.append(f"float row's error is {ratio:.3g} of the largest displacement, not within [1e-8, 1e-4]")
+
+fast = by.get("fast 1/r")
+if fast is None:
+    bad.append("no fast 1/r row")
+elif f is not None:
+    print(f"fast 1/r: max error {num(fast, 'max_error'):.3g} against float's {num(f, 'max_error'):.3g}")
+    if not (num(fast, "max_error") <= 2.0 * num(f, "max_error")):
+        bad.append(f"fast 1/r's error {num(fast, 'max_error'):.3g} is not below twice float's {num(f, 'max_error'):.3g}")
 
 regions = sorted((float(r["name"].split()[1]), num(r, "mean_error")) for r in rows
                  if r["group"] == "region" and r["name"] != "region auto")

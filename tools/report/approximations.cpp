@@ -20,12 +20,17 @@ std::vector<Approximation> approximations(const deform::DeformSettings& session,
   base.region.border_weight = session.region.border_weight;
   base.field.precision = deform::Precision::kFloat;
   base.field.carry_normals = true;
+  base.field.fast_inverse_sqrt = false;
   base.traction = false;  // haptics does not move the model; its time is not the frame's
   std::vector<Approximation> rows;
   rows.push_back({"float", "precision", base, false});
   Approximation dbl{"double loop", "precision", base, false};
   dbl.settings.field.precision = deform::Precision::kDouble;
   rows.push_back(dbl);
+  // 1/r from the processor's estimate and one Newton step (FieldOptions::fast_inverse_sqrt).
+  Approximation fast{"fast 1/r", "precision", base, false};
+  fast.settings.field.fast_inverse_sqrt = true;
+  rows.push_back(fast);
   for (double k : kRegionSpacings) {
     Approximation r{spacings("region", k), "region", base, false};
     r.settings.region.kind = deform::RegionSettings::Kind::kRadius;

@@ -39,6 +39,12 @@ struct FieldOptions {
   /// README's physics notes derive both). Everywhere else the normal and the Jacobian are exactly
   /// the exact pass's, bit for bit; positions are always. In [0, 0.1].
   double normal_skip_bound = 0.0;
+  /// A named approximation (off by default): in float precision, 1/r of every point and source
+  /// comes from the processor's reciprocal square root estimate refined by one Newton step
+  /// (inverse_sqrt_estimate(), relative error at most kInverseSqrtEstimateError = 2^-21) in place
+  /// of a square root and a division. Displacements, gradients and normals all use it, so every
+  /// pass still agrees with the others bit for bit; thread counts too. Ignored in double precision.
+  bool fast_inverse_sqrt = false;
 };
 
 /// The positions and normals a frame overwrote, so that a frame rejected after it ran (a fold,

@@ -84,6 +84,7 @@ struct DeformScene {
   deform::Precision precision = deform::Precision::kFloat;
   bool carry_normals = true;
   double normal_skip_bound = 0.0;       ///< the bounded normal update (0: off; FieldOptions)
+  bool fast_inverse_sqrt = false;       ///< 1/r from the processor's estimate (FieldOptions)
   double border_weight = 1.0;           ///< weight of the region's pinned band (localised regions only)
   std::size_t max_patch_points = 1024;  ///< boundary-condition points per finger's patch, thinned beyond
   int threads = 1;                      ///< 2: the displacement loop's worker on the second core
