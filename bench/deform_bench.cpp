@@ -18,6 +18,7 @@
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
+#include "sculpt/deform/point_index.hpp"
 #include "sculpt/deform/weight_solver.hpp"
 #include "ratio_report.hpp"
 #include "yardstick.hpp"
@@ -170,6 +171,35 @@ void solve_only(benchmark::State& state) {
   }
 }
 
+// The region's neighbourhood queries alone, as a five-finger region frame asks them: a ball of
+// 20 spacings around each of the bench's five contact points, after every point moved up to
+// `drift_spacings` (the drift a stroke has built up since the index's snapshot; none moved as
+// far, so the answers are those of the snapshot and the query pays only for the widening).
+void region_query(benchmark::State& state, const std::string& name, double drift_spacings) {
+  const PointModel* model = load(name);
+  if (!model) {
+    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
+    return;
+  }
+  const PointIndex index(*model);
+  const double spacing = typical_spacing(*model, index).value;
+  std::vector<Vec3> centres;
+  for (const ProbeMotion& p : spread_probes(*model, 5, spacing))
+    centres.push_back(p.previous + (p.current - p.previous) * (2.0 / 3.0));
+  std::vector<std::uint32_t> out;
+  out.reserve(model->size());
+  std::size_t found = 0;
+  for (auto _ : state) {
+    found = 0;
+    for (const Vec3& c : centres) {
+      index.within_radius(*model, c, 20.0 * spacing, out, drift_spacings * spacing, /*ascending=*/false);
+      found += out.size();
+    }
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["found"] = static_cast<double>(found);
+}
+
 // The yardsticks on as many points as each model has (bench/yardstick.hpp).
 void yardsticks(std::size_t points) {
   benchmark::RegisterBenchmark(bench::bare_name(points).c_str(), [points](benchmark::State& state) {
@@ -201,6 +231,14 @@ void register_all() {
       ->Args({5, 445})
       ->Args({5, 1000})
       ->Unit(benchmark::kMicrosecond);
+  for (const char* scan : {"dragon_100250.ply", "dragon_437645.ply"}) {
+    const std::string name = scan;
+    RegisterBenchmark(("RegionQuery/" + name + "/drift_spacings").c_str(),
+                      [name](benchmark::State& s) { region_query(s, name, static_cast<double>(s.range(0))); })
+        ->Arg(0)
+        ->Arg(2)
+        ->Unit(benchmark::kMicrosecond);
+  }
   for (auto [precision, tag] : {std::pair{Precision::kFloat, "float"}, std::pair{Precision::kDouble, "double"}}) {
     const Precision p = precision;
     RegisterBenchmark((std::string("BareLoop5x100k/") + tag).c_str(), [p](benchmark::State& s) {

@@ -95,6 +95,7 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   // Below a few spacings of drift, widening a query visits fewer points than the list holds.
   index_.track_moved(kMovedCapacity, kMovedListFromDrift * settings_.contact.bc_radius);
   centre_ = model_.bounding_box_centre();
+  extent_ = largest_coordinate(model_);
   probe_range_ = settings_.guards.probe_range * std::max(model_.bounding_box_diagonal(), 1e-30);
   min_patch_points_ =
       typical_patch_points(model_, index_, settings_.contact.bc_radius, settings_.guards.min_patch_fraction);
@@ -155,6 +156,7 @@ void Deformer::restore(const PointModel& base) {
   std::copy(base.nx.begin(), base.nx.end(), model_.nx.begin());
   std::copy(base.ny.begin(), base.ny.end(), model_.ny.begin());
   std::copy(base.nz.begin(), base.nz.end(), model_.nz.begin());
+  extent_ = largest_coordinate(model_);
   if (index_holds_base_) {
     drift_ = 0.0;
     index_.forget_moved();
@@ -461,7 +463,9 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   r.max_normal_bound_angle = normal_bound_angle(moved.max_skipped_bound);
   r.region_points = region_.global() ? model_.size() : region_.points().size();
   r.border_points = band.size();
-  drift_ += r.max_displacement;
+  const double step = stored_move_bound(r.max_displacement, extent_);
+  drift_ += step;
+  if (std::isfinite(step)) extent_ += step;
 
   keep_probes_outside(probes, r);
   return Outcome::kApplied;

@@ -85,40 +85,15 @@ class NearestCollector {
   double bound_ = std::numeric_limits<double>::infinity();
 };
 
-// nanoflann result set for within_radius() without the moved list: keeps candidates whose
-// current position passes the exact test, appending to the caller's vector within its capacity
-// (never growing it: the real-time path must not allocate), and remembers when a match did not
-// fit.
-class RadiusCollector {
- public:
-  RadiusCollector(const PointModel& model, const double* q, double radius, double drift,
-                  std::vector<std::uint32_t>& out)
-      : model_(model), q_(q), radius_squared_(radius * radius), bound_(search_bound(radius, drift)), out_(out) {}
-
-  std::size_t size() const { return out_.size(); }
-  bool full() const { return true; }
-  double worstDist() const { return bound_; }  // NOLINT(readability-identifier-naming): nanoflann calls it
-  bool addPoint(double /*snapshot_squared_distance*/, std::uint32_t i) {  // NOLINT(readability-identifier-naming)
-    if (current_squared_distance(model_, i, q_) > radius_squared_) return true;
-    if (out_.size() < out_.capacity()) {
-      out_.push_back(i);
-    } else {
-      truncated_ = true;
-    }
-    return true;
-  }
-  bool truncated() const { return truncated_; }
-
- private:
-  const PointModel& model_;
-  const double* q_;
-  double radius_squared_;
-  double bound_;
-  std::vector<std::uint32_t>& out_;
-  bool truncated_ = false;
-};
-
 }  // namespace
+
+double largest_coordinate(const PointModel& model) noexcept {
+  float largest = 0.0f;
+  for (const std::vector<float>* axis : {&model.x, &model.y, &model.z}) {
+    for (float v : *axis) largest = std::max(largest, std::abs(v));
+  }
+  return static_cast<double>(largest);
+}
 
 struct PointIndex::Impl {
   Snapshot points;
@@ -159,7 +134,7 @@ void PointIndex::rebuild(const PointModel& model) {
     }
   }
   impl_->tree.buildIndex();
-  impl_->unlisted.build(impl_->tree, n);
+  impl_->unlisted.build(impl_->tree, n, s.xyz.data());
   unlisted_marked_ = 0;
   if (moved_) moved_->clear();
 }
@@ -249,7 +224,7 @@ PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q, 
     // ones' subtrees): its best then bounds the list's scan, which skips the blocks beyond it.
     std::uint32_t best = kNoPoint;
     double best_squared = std::numeric_limits<double>::infinity();
-    impl_->unlisted.nearest(impl_->points.xyz.data(), query, *moved, counts_ready(), best, best_squared);
+    impl_->unlisted.nearest(query, *moved, counts_ready(), best, best_squared);
     moved->nearest(model, query, best, best_squared);
     if (best == kNoPoint) return {kNoPoint, std::numeric_limits<double>::infinity()};
     return {best, std::sqrt(best_squared)};
@@ -272,13 +247,10 @@ bool PointIndex::within_radius(const PointModel& model, const Vec3& q, double ra
   const MovedOverlay* moved = usable_moved(drift);
   bool complete = true;
   if (moved != nullptr) {
-    complete =
-        impl_->unlisted.within_radius(impl_->points.xyz.data(), query, radius * radius, *moved, counts_ready(), out);
+    complete = impl_->unlisted.within_radius(query, radius * radius, *moved, counts_ready(), out);
     complete = moved->within_radius(model, query, radius * radius, out) && complete;
   } else {
-    RadiusCollector collector(model, query, radius, std::max(drift, 0.0), out);
-    impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
-    complete = !collector.truncated();
+    complete = impl_->unlisted.within_radius_drifted(model, query, radius, std::max(drift, 0.0), out);
   }
   // Tree order is spatial; callers want index order (stable, cache-friendly writes). std::sort
   // works in place, so this stays allocation-free.

@@ -1,5 +1,7 @@
 #include "unlisted_tree.hpp"
 
+#include <algorithm>
+
 namespace sculpt::deform {
 
 void UnlistedTree::mark_listed(std::uint32_t i) noexcept {
@@ -58,14 +60,14 @@ void UnlistedTree::search(const double* q, const double& bound, bool by_subtree,
   }
 }
 
-void UnlistedTree::nearest(const float* xyz, const double* q, const MovedOverlay& list, bool by_subtree,
-                           std::uint32_t& best, double& best_squared) const noexcept {
+void UnlistedTree::nearest(const double* q, const MovedOverlay& list, bool by_subtree, std::uint32_t& best,
+                           double& best_squared) const noexcept {
   double bound = widened_bound(best_squared);
   auto leaf = [&](std::uint32_t first, std::uint32_t end) {
     for (std::uint32_t k = first; k < end; ++k) {
       const std::uint32_t i = order_[k];
       if (list.contains(i)) continue;
-      const float* p = xyz + 3 * static_cast<std::size_t>(i);
+      const float* p = ordered_xyz_.data() + 3 * static_cast<std::size_t>(k);
       const double d2 = squared_distance_to(p[0], p[1], p[2], q);
       if (d2 < best_squared || (d2 == best_squared && i < best)) {
         best_squared = d2;
@@ -77,15 +79,15 @@ void UnlistedTree::nearest(const float* xyz, const double* q, const MovedOverlay
   search(q, bound, by_subtree, leaf);
 }
 
-bool UnlistedTree::within_radius(const float* xyz, const double* q, double radius_squared, const MovedOverlay& list,
-                                 bool by_subtree, std::vector<std::uint32_t>& out) const noexcept {
+bool UnlistedTree::within_radius(const double* q, double radius_squared, const MovedOverlay& list, bool by_subtree,
+                                 std::vector<std::uint32_t>& out) const noexcept {
   const double bound = widened_bound(radius_squared);
   bool complete = true;
   auto leaf = [&](std::uint32_t first, std::uint32_t end) {
     for (std::uint32_t k = first; k < end; ++k) {
       const std::uint32_t i = order_[k];
       if (list.contains(i)) continue;
-      const float* p = xyz + 3 * static_cast<std::size_t>(i);
+      const float* p = ordered_xyz_.data() + 3 * static_cast<std::size_t>(k);
       if (squared_distance_to(p[0], p[1], p[2], q) > radius_squared) continue;
       if (out.size() < out.capacity()) {
         out.push_back(i);
@@ -95,6 +97,99 @@ bool UnlistedTree::within_radius(const float* xyz, const double* q, double radiu
     }
   };
   search(q, bound, by_subtree, leaf);
+  return complete;
+}
+
+// Visits the subtrees whose box comes within sqrt(bound) of q: one whose box lies wholly within
+// sqrt(inside) goes to `whole`, a leaf otherwise to `leaf`. `nearest` and `farthest` are the
+// squared distances from q to the box's nearest and farthest points, summed over the
+// dimensions in `gaps` (a split changes one dimension's terms only, as in nanoflann's descent).
+template <class Leaf, class Whole>
+void UnlistedTree::gather(std::uint32_t node, Box& box, const double* q, double bound, double inside, Leaf& leaf,
+                          Whole& whole) const noexcept {
+  const Node& n = nodes_[node];
+  if (box.farthest <= inside) {
+    whole(n.begin, n.end);
+    return;
+  }
+  if (n.feature < 0) {
+    leaf(n.first, n.second);
+    return;
+  }
+  const int f = n.feature;
+  const double value = q[f];
+  const double low = box.low[f], high = box.high[f];
+  const double nearest = box.nearest, farthest = box.farthest, near_f = box.near[f], far_f = box.far[f];
+  // Child 1 keeps [low, n.low] in dimension f, child 2 [n.high, high].
+  const auto visit = [&](double child_low, double child_high, std::uint32_t child) {
+    const double below = value - child_low, above = value - child_high;
+    const double gap = below < 0.0 ? below : (above > 0.0 ? above : 0.0);
+    const double near = gap * gap, far = std::max(below * below, above * above);
+    box.nearest = nearest - near_f + near;
+    if (!(box.nearest <= bound)) return;  // a NaN query finds nothing
+    box.farthest = farthest - far_f + far;
+    box.low[f] = child_low;
+    box.high[f] = child_high;
+    box.near[f] = near;
+    box.far[f] = far;
+    gather(child, box, q, bound, inside, leaf, whole);
+  };
+  visit(low, static_cast<double>(n.low), n.first);
+  visit(static_cast<double>(n.high), high, n.second);
+  box.low[f] = low;
+  box.high[f] = high;
+  box.near[f] = near_f;
+  box.far[f] = far_f;
+  box.nearest = nearest;
+  box.farthest = farthest;
+}
+
+bool UnlistedTree::within_radius_drifted(const PointModel& model, const double* q, double radius, double drift,
+                                         std::vector<std::uint32_t>& out) const noexcept {
+  if (nodes_.empty()) return true;
+  const double radius_squared = radius * radius;
+  const double reach = radius + drift;
+  const double bound = widened_bound(reach * reach);
+  // Narrowed by as much as the bound is widened, against the double rounding of the box's
+  // distances; no subtree is taken whole when the drift covers the radius.
+  const double core = radius - drift;
+  const double inside = core > 0.0 ? core * core * (1.0 - 1e-9) : -1.0;
+  bool complete = true;
+  auto append = [&](std::uint32_t i) {
+    if (out.size() < out.capacity()) {
+      out.push_back(i);
+    } else {
+      complete = false;
+    }
+  };
+  auto leaf = [&](std::uint32_t first, std::uint32_t end) {
+    for (std::uint32_t k = first; k < end; ++k) {
+      const float* p = ordered_xyz_.data() + 3 * static_cast<std::size_t>(k);
+      if (squared_distance_to(p[0], p[1], p[2], q) > bound) continue;
+      const std::uint32_t i = order_[k];
+      if (current_squared_distance(model, i, q) <= radius_squared) append(i);
+    }
+  };
+  auto whole = [&](std::uint32_t begin, std::uint32_t end) {
+    const std::size_t room = out.capacity() - out.size();
+    const std::size_t count = end - begin;
+    out.insert(out.end(), order_ + begin, order_ + begin + std::min(count, room));
+    if (count > room) complete = false;
+  };
+  Box box;
+  box.nearest = box.farthest = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    box.low[d] = low_[d];
+    box.high[d] = high_[d];
+    const double below = q[d] - low_[d], above = q[d] - high_[d];
+    const double gap = below < 0.0 ? below : (above > 0.0 ? above : 0.0);
+    box.near[d] = gap * gap;
+    box.far[d] = std::max(below * below, above * above);
+    box.nearest += box.near[d];
+    box.farthest += box.far[d];
+  }
+  if (!(box.nearest <= bound)) return true;
+  gather(0, box, q, bound, inside, leaf, whole);
   return complete;
 }
 

@@ -11,6 +11,11 @@
 //
 // The traversal is nanoflann's (the same descent order, the same incremental box distances),
 // written here because nanoflann offers no way to prune a subtree by anything but its box.
+//
+// The same tree answers radius queries without the list too (within_radius_drifted): there it
+// takes a subtree that lies wholly inside the ball whole, where nanoflann tests each of its points,
+// and it reads the snapshot in the tree's own order, so that a leaf is a few contiguous cache
+// lines instead of a dozen scattered ones.
 
 #include <cmath>
 #include <cstddef>
@@ -19,6 +24,7 @@
 #include <vector>
 
 #include "moved_overlay.hpp"
+#include "sculpt/deform/point_model.hpp"
 
 namespace sculpt::deform {
 
@@ -35,10 +41,10 @@ class UnlistedTree {
  public:
   /// Copies the shape of a built nanoflann tree over `points` points (its nodes and its bounding
   /// box; its point order is read in place, so the tree must outlive this copy and not be
-  /// rebuilt without it); every point counts as unlisted. Set-up: allocates about 12 bytes a
-  /// point.
+  /// rebuilt without it) and the snapshot `xyz` (interleaved, model order) in the tree's order;
+  /// every point counts as unlisted. Set-up: allocates about 24 bytes a point.
   template <class Tree>
-  void build(const Tree& tree, std::size_t points);
+  void build(const Tree& tree, std::size_t points, const float* xyz);
   /// Every point is the tree's again (the list was cleared).
   void reset() noexcept { unlisted_ = initial_; }
   /// Point i is now on the list. Call once per point listed. Touches its leaf alone, except for
@@ -49,12 +55,20 @@ class UnlistedTree {
   /// (`xyz`, interleaved): a point wins when closer, or as close with a smaller index. With
   /// `by_subtree` (the counts are up to the list) subtrees with no unlisted point are skipped
   /// whole; without, listed points are skipped one by one.
-  void nearest(const float* xyz, const double* q, const MovedOverlay& list, bool by_subtree, std::uint32_t& best,
+  void nearest(const double* q, const MovedOverlay& list, bool by_subtree, std::uint32_t& best,
                double& best_squared) const noexcept;
   /// Appends the unlisted points within sqrt(radius_squared) of q (snapshot positions) to
   /// `out`, within its capacity; false when one did not fit. `by_subtree` as for nearest().
-  bool within_radius(const float* xyz, const double* q, double radius_squared, const MovedOverlay& list,
-                     bool by_subtree, std::vector<std::uint32_t>& out) const noexcept;
+  bool within_radius(const double* q, double radius_squared, const MovedOverlay& list, bool by_subtree,
+                     std::vector<std::uint32_t>& out) const noexcept;
+  /// Without the list: appends the points of `model` within `radius` of q at their current
+  /// positions, given that none moved more than `drift` from its snapshot position, within out's
+  /// capacity (false when one did not fit). A point within radius + drift of q at its snapshot
+  /// position is tested at its current one; a subtree whose box lies wholly within
+  /// radius - drift of q is appended whole, untested, since every point of it is then within the
+  /// radius wherever it moved. Order: the tree's.
+  bool within_radius_drifted(const PointModel& model, const double* q, double radius, double drift,
+                             std::vector<std::uint32_t>& out) const noexcept;
 
  private:
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
@@ -66,6 +80,16 @@ class UnlistedTree {
     std::uint32_t first = 0;    // child 1, or a leaf's first position in order_
     std::uint32_t second = 0;   // child 2, or a leaf's end position in order_
     std::int32_t feature = -1;  // split dimension; -1 for a leaf
+    // The subtree's points: positions begin..end of order_ (a subtree's points are contiguous
+    // there, nanoflann partitions in place).
+    std::uint32_t begin = 0, end = 0;
+  };
+  // A subtree's bounding box, narrowed split by split on the way down, with each dimension's
+  // squared distance from the query to its nearest and farthest side and their sums.
+  struct Box {
+    double low[3], high[3];
+    double near[3], far[3];
+    double nearest, farthest;
   };
   template <class NodePtr>
   static std::size_t count_nodes(NodePtr node);
@@ -76,6 +100,9 @@ class UnlistedTree {
                Leaf& leaf) const noexcept;
   template <class Leaf>
   void search(const double* q, const double& bound, bool by_subtree, Leaf& leaf) const noexcept;
+  template <class Leaf, class Whole>
+  void gather(std::uint32_t node, Box& box, const double* q, double bound, double inside, Leaf& leaf,
+              Whole& whole) const noexcept;
 
   std::vector<Node> nodes_;
   // unlisted_: for a leaf, how many of its points are not listed; for an inner node, how many
@@ -83,16 +110,21 @@ class UnlistedTree {
   // holds the counts with nothing listed.
   std::vector<std::uint32_t> parent_, initial_, unlisted_;
   const std::uint32_t* order_ = nullptr;  // point indices in tree order (nanoflann's vAcc)
+  std::vector<float> ordered_xyz_;        // the snapshot in tree order: position k is point order_[k]
   std::vector<std::uint32_t> leaf_of_;    // per point: its leaf
   double low_[3] = {}, high_[3] = {};     // the root's bounding box
 };
 
 template <class Tree>
-void UnlistedTree::build(const Tree& tree, std::size_t points) {
+void UnlistedTree::build(const Tree& tree, std::size_t points, const float* xyz) {
   nodes_.clear();
   parent_.clear();
   initial_.clear();
   order_ = tree.vAcc.data();
+  ordered_xyz_.resize(3 * points);
+  for (std::size_t k = 0; k < points; ++k) {
+    for (std::size_t d = 0; d < 3; ++d) ordered_xyz_[3 * k + d] = xyz[3 * static_cast<std::size_t>(order_[k]) + d];
+  }
   leaf_of_.assign(points, kNone);
   const std::size_t count = tree.root_node != nullptr ? count_nodes(tree.root_node) : 0;
   nodes_.reserve(count);
@@ -122,6 +154,8 @@ std::uint32_t UnlistedTree::flatten(NodePtr node, std::uint32_t parent) {
     const auto right = static_cast<std::uint32_t>(node->node_type.lr.right);
     nodes_[id].first = left;
     nodes_[id].second = right;
+    nodes_[id].begin = left;
+    nodes_[id].end = right;
     for (std::uint32_t k = left; k < right; ++k) leaf_of_[order_[k]] = id;
     initial_[id] = right - left;
     return id;
@@ -138,6 +172,8 @@ std::uint32_t UnlistedTree::flatten(NodePtr node, std::uint32_t parent) {
   if (static_cast<double>(n.high) > high) n.high = std::nextafter(n.high, -std::numeric_limits<float>::infinity());
   n.first = first;
   n.second = second;
+  n.begin = nodes_[first].begin;
+  n.end = nodes_[second].end;
   return id;
 }
 

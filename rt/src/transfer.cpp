@@ -48,6 +48,7 @@ FrameTransfer::FrameTransfer(deform::PointModel& target, const TransferOptions& 
   rebuild_drift_ =
       options_.rebuild_drift > 0.0 ? options_.rebuild_drift : kDefaultRebuildFraction * model_.bounding_box_diagonal();
   index_.rebuild(model_);
+  extent_ = deform::largest_coordinate(model_);
   const std::size_t n = model_.size();
   points_.reserve(n);
   scratch_.reserve(n);
@@ -133,7 +134,9 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
       reject(id, "its forces give non-finite positions or normals; the model is left as before the frame");
     }
     min_jacobian_ = std::min(min_jacobian_, moved.min_jacobian);
-    drift_ += moved.max_displacement;
+    const double step = deform::stored_move_bound(moved.max_displacement, extent_);
+    drift_ += step;
+    if (std::isfinite(step)) extent_ += step;
   }
   ++frames_;
   events_ += frame.size();

@@ -395,6 +395,32 @@ TEST(Deformer, RestoreUndoesEveryFrame) {
   EXPECT_EQ(deformer.drift(), 0.0);
 }
 
+TEST(Deformer, TheDriftBoundsEveryStoredMoveWithItsRounding) {
+  // The index's queries are exact only while the drift bounds how far any point moved. Far from
+  // the origin a float position is coarse (at x = 4096 an ulp is 4.9e-4, a hundredth of this
+  // sphere's spacing), so a stored move differs from the computed displacement by up to half
+  // an ulp per coordinate: the drift must include it, press after press.
+  PointModel original = make_sphere();
+  for (float& x : original.x) x += 4096.0f;
+  PointModel model = original;
+  Deformer deformer(model, sphere_settings());
+  int frames = 0;
+  for (const double depth : {0.93, 0.91, 0.89, 0.87, 0.85}) {
+    deformer.restore(original);
+    const ProbeMotion push{pole_probe(1.1) + Vec3{4096.0, 0.0, 0.0}, pole_probe(depth) + Vec3{4096.0, 0.0, 0.0},
+                           std::nullopt};
+    if (deformer.deform({&push, 1}).collisions == 0) continue;
+    ++frames;
+    double moved = 0.0;
+    for (std::size_t i = 0; i < model.size(); ++i)
+      moved = std::max(moved, norm(model.position(i) - original.position(i)));
+    ASSERT_GT(moved, 0.01);
+    EXPECT_GE(deformer.drift(), moved) << "press to " << depth;
+    EXPECT_LT(deformer.drift(), moved * 1.01 + 1e-3) << "the rounding's share stays an ulp's size";
+  }
+  EXPECT_EQ(frames, 5);
+}
+
 TEST(Deformer, BadSettingsAreRejectedAtConstruction) {
   PointModel sphere = make_sphere();
   DeformSettings s = sphere_settings();

@@ -241,6 +241,35 @@ TEST(PointIndex, ExactAfterBoundedDrift) {
   EXPECT_GT(neighbourhood_changed, 200u);
 }
 
+TEST(PointIndex, LargeBallsAfterBoundedDriftAreExact) {
+  // Balls of many spacings hold whole subtrees, which the query takes without testing their
+  // points: that is exact only while every such subtree lies within radius - drift of q, so
+  // the points moved up to the drift (a fifth of them by all of it) must still answer exactly,
+  // including those that moved across the sphere of radius - drift.
+  PointModel m = random_cloud(6000, 77);
+  const PointIndex index(m);
+  const PointModel snapshot = m;
+  std::vector<std::uint32_t> out;
+  out.reserve(kOutCapacity);
+  std::size_t changed = 0;
+  for (const double drift : {0.0, 0.01, 0.05, 0.2, 0.7}) {
+    m = snapshot;
+    const double moved = drift > 0.0 ? displace(m, drift, static_cast<std::uint32_t>(1 + drift * 1e3)) : 0.0;
+    for (const Vec3& q : random_queries(60, 78, 1.2)) {
+      for (const double radius : {0.3, 0.6, 1.1}) {
+        EXPECT_TRUE(index.within_radius(m, q, radius, out, moved));
+        const std::vector<std::uint32_t> want = oracle_within(m, q, radius);
+        EXPECT_EQ(out, want) << "drift " << drift << " radius " << radius;
+        if (want != oracle_within(snapshot, q, radius)) ++changed;
+      }
+    }
+  }
+  EXPECT_GT(changed, 500u);  // the moves really change the answers
+  // The whole cloud in one ball, after the drift: every point, once.
+  index.within_radius(m, {0, 0, 0}, 10.0, out, 0.7);
+  EXPECT_EQ(out.size(), m.size());
+}
+
 TEST(PointIndex, DriftMovesTheNearestPointAway) {
   // Snapshot: a is nearest to the origin. After moving a away and b closer (each by exactly
   // `drift`), b is. A search ignoring drift would stop after a.

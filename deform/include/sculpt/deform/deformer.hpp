@@ -217,6 +217,9 @@ class Deformer {
   std::unique_ptr<FieldWorker> worker_;  // with settings.threads == 2
   PointIndex index_;
   double drift_ = 0.0;
+  // No coordinate of the model is larger in magnitude (grown by every pass): the rounding
+  // stored_move_bound() adds to the drift scales with it.
+  double extent_ = 0.0;
   bool index_holds_base_ = true;  // the index snapshot is the model as constructed
   double point_area_ = 0.0;
   Region region_;

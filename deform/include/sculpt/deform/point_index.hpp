@@ -23,12 +23,27 @@ class MovedOverlay;
 /// respect to the model's *current* positions as long as the caller passes a `drift` no smaller
 /// than the largest distance any point has moved since the snapshot: the stale tree is searched
 /// with the bounds widened by `drift`, and every candidate is then tested at its current
-/// position. A too-small `drift` may miss points (within_radius) or return a point that is not
-/// the nearest (nearest); reported points and distances are always true at current positions.
+/// position, except that within_radius takes a subtree lying wholly within radius - drift of q
+/// without testing its points (each is within the radius wherever it moved). A too-small
+/// `drift` may miss points or report one up to the shortfall beyond the radius
+/// (within_radius), or return a point that is not the nearest (nearest); reported distances
+/// are always true at current positions. stored_move_bound() gives the drift a pass adds.
 ///
 /// Thread safety: all const members (the queries) may run concurrently from any number of
 /// threads on one index; they share no mutable state. rebuild() and assignment must not overlap
 /// any query on the same object — build a new index elsewhere and move it in instead.
+/// How far a pass may have moved any point, for the queries' `drift`, when its largest
+/// displacement as computed was `displacement` and no coordinate exceeded `extent` in magnitude
+/// before it: each new position is rounded to float (half an ulp per coordinate, which the
+/// computed displacement leaves out), and the largest displacement itself went through float.
+inline double stored_move_bound(double displacement, double extent) noexcept {
+  const double computed = displacement * (1.0 + 0x1p-20);
+  return computed + 0x1p-23 * (extent + computed);
+}
+
+/// The largest coordinate magnitude of the model: the `extent` of stored_move_bound().
+double largest_coordinate(const PointModel& model) noexcept;
+
 class PointIndex {
  public:
   /// Index value of Nearest when there is no point at all (empty index).
