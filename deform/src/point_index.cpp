@@ -88,11 +88,22 @@ class NearestCollector {
 }  // namespace
 
 double largest_coordinate(const PointModel& model) noexcept {
-  float largest = 0.0f;
+  // Kept per lane and reduced once: a running scalar maximum does not vectorise, and undoing
+  // to the base (Deformer::restore) calls this over every point.
+  constexpr std::size_t kLanes = 16;
+  std::array<float, kLanes> lanes{};
   for (const std::vector<float>* axis : {&model.x, &model.y, &model.z}) {
-    for (float v : *axis) largest = std::max(largest, std::abs(v));
+    const std::size_t n = axis->size(), whole = n - n % kLanes;
+    const float* v = axis->data();
+    for (std::size_t k = 0; k < whole; k += kLanes) {
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        const float a = std::fabs(v[k + l]);
+        lanes[l] = a > lanes[l] ? a : lanes[l];
+      }
+    }
+    for (std::size_t k = whole; k < n; ++k) lanes[0] = std::max(lanes[0], std::fabs(v[k]));
   }
-  return static_cast<double>(largest);
+  return static_cast<double>(*std::max_element(lanes.begin(), lanes.end()));
 }
 
 struct PointIndex::Impl {
