@@ -171,33 +171,70 @@ void solve_only(benchmark::State& state) {
   }
 }
 
+// A scan indexed as a frame's deformer indexes it, with its typical spacing, for the rows that
+// time the index's queries alone; empty (and the row skipped) when the scan is missing.
+struct IndexedScan {
+  const PointModel* model = nullptr;
+  std::unique_ptr<PointIndex> index;
+  double spacing = 0.0;
+};
+
+IndexedScan indexed_scan(benchmark::State& state, const std::string& name) {
+  IndexedScan scan;
+  scan.model = load(name);
+  if (!scan.model) {
+    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
+    return scan;
+  }
+  scan.index = std::make_unique<PointIndex>(*scan.model);
+  scan.spacing = typical_spacing(*scan.model, *scan.index).value;
+  return scan;
+}
+
 // The region's neighbourhood queries alone, as a five-finger region frame asks them: a ball of
 // 20 spacings around each of the bench's five contact points, after every point moved up to
 // `drift_spacings` (the drift a stroke has built up since the index's snapshot; none moved as
 // far, so the answers are those of the snapshot and the query pays only for the widening).
 void region_query(benchmark::State& state, const std::string& name, double drift_spacings) {
-  const PointModel* model = load(name);
-  if (!model) {
-    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
-    return;
-  }
-  const PointIndex index(*model);
-  const double spacing = typical_spacing(*model, index).value;
+  const IndexedScan scan = indexed_scan(state, name);
+  if (!scan.model) return;
   std::vector<Vec3> centres;
-  for (const ProbeMotion& p : spread_probes(*model, 5, spacing))
+  for (const ProbeMotion& p : spread_probes(*scan.model, 5, scan.spacing))
     centres.push_back(p.previous + (p.current - p.previous) * (2.0 / 3.0));
   std::vector<std::uint32_t> out;
-  out.reserve(model->size());
+  out.reserve(scan.model->size());
   std::size_t found = 0;
   for (auto _ : state) {
     found = 0;
     for (const Vec3& c : centres) {
-      index.within_radius(*model, c, 20.0 * spacing, out, drift_spacings * spacing, /*ascending=*/false);
+      scan.index->within_radius(*scan.model, c, 20.0 * scan.spacing, out, drift_spacings * scan.spacing,
+                                /*ascending=*/false);
       found += out.size();
     }
     benchmark::DoNotOptimize(out.data());
   }
   state.counters["found"] = static_cast<double>(found);
+}
+
+// The contact's nearest-point queries alone: from each of the bench's five probes before and
+// after its move (two spacings out and one in) and at its contact, after every point moved up
+// to `drift_spacings` (as in region_query, the answers are the snapshot's).
+void nearest_query(benchmark::State& state, const std::string& name, double drift_spacings) {
+  const IndexedScan scan = indexed_scan(state, name);
+  if (!scan.model) return;
+  std::vector<Vec3> queries;
+  for (const ProbeMotion& p : spread_probes(*scan.model, 5, scan.spacing)) {
+    queries.push_back(p.previous);
+    queries.push_back(p.current);
+    queries.push_back(p.previous + (p.current - p.previous) * (2.0 / 3.0));
+  }
+  double sum = 0.0;
+  for (auto _ : state) {
+    sum = 0.0;
+    for (const Vec3& q : queries) sum += scan.index->nearest(*scan.model, q, drift_spacings * scan.spacing).distance;
+    benchmark::DoNotOptimize(sum);
+  }
+  state.counters["queries"] = static_cast<double>(queries.size());
 }
 
 // The yardsticks on as many points as each model has (bench/yardstick.hpp).
@@ -235,6 +272,11 @@ void register_all() {
     const std::string name = scan;
     RegisterBenchmark(("RegionQuery/" + name + "/drift_spacings").c_str(),
                       [name](benchmark::State& s) { region_query(s, name, static_cast<double>(s.range(0))); })
+        ->Arg(0)
+        ->Arg(2)
+        ->Unit(benchmark::kMicrosecond);
+    RegisterBenchmark(("NearestQuery/" + name + "/drift_spacings").c_str(),
+                      [name](benchmark::State& s) { nearest_query(s, name, static_cast<double>(s.range(0))); })
         ->Arg(0)
         ->Arg(2)
         ->Unit(benchmark::kMicrosecond);
