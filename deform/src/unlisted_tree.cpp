@@ -100,15 +100,27 @@ bool UnlistedTree::within_radius(const double* q, double radius_squared, const M
   return complete;
 }
 
+// The squared distance from q to the box's farthest corner, summed afresh.
+double UnlistedTree::farthest_squared(const Box& box, const double* q) noexcept {
+  double sum = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    const double below = q[d] - box.low[d], above = q[d] - box.high[d];
+    sum += std::max(below * below, above * above);
+  }
+  return sum;
+}
+
 // Visits the subtrees whose box comes within sqrt(bound) of q: one whose box lies wholly within
-// sqrt(inside) goes to `whole`, a leaf otherwise to `leaf`. `nearest` and `farthest` are the
-// squared distances from q to the box's nearest and farthest points, summed over the
-// dimensions in `gaps` (a split changes one dimension's terms only, as in nanoflann's descent).
+// sqrt(inside) goes to `whole`, a leaf otherwise to `leaf`. The box's `nearest` and `farthest`
+// are the squared distances from q to its nearest and farthest points, each a sum of per-
+// dimension terms of which a split changes one (as in nanoflann's descent). A running sum
+// carries the rounding of every level above, which near the root is rounding on the model's
+// whole extent, so a subtree is taken whole only when the sum computed afresh agrees.
 template <class Leaf, class Whole>
 void UnlistedTree::gather(std::uint32_t node, Box& box, const double* q, double bound, double inside, Leaf& leaf,
                           Whole& whole) const noexcept {
   const Node& n = nodes_[node];
-  if (box.farthest <= inside) {
+  if (box.farthest <= inside && farthest_squared(box, q) <= inside) {
     whole(n.begin, n.end);
     return;
   }

@@ -100,6 +100,7 @@ class UnlistedTree {
                Leaf& leaf) const noexcept;
   template <class Leaf>
   void search(const double* q, const double& bound, bool by_subtree, Leaf& leaf) const noexcept;
+  static double farthest_squared(const Box& box, const double* q) noexcept;
   template <class Leaf, class Whole>
   void gather(std::uint32_t node, Box& box, const double* q, double bound, double inside, Leaf& leaf,
               Whole& whole) const noexcept;
