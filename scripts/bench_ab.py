@@ -44,9 +44,10 @@ def run(binary, pattern, repetitions, min_time):
     scale = {"ns": 1e-3, "us": 1.0, "ms": 1e3, "s": 1e6}
     medians = {}
     for b in report["benchmarks"]:
+        # A row that skipped itself (a scan not fetched, a finger that missed) has no aggregates.
+        if b.get("error_occurred"):
+            sys.exit(f"bench_ab: {binary}: {b['run_name']}: {b.get('error_message', 'error')}")
         if b.get("aggregate_name") == "median":
-            if b.get("error_occurred"):
-                sys.exit(f"bench_ab: {b['run_name']}: {b.get('error_message', 'error')}")
             medians[b["run_name"]] = b["cpu_time"] * scale[b["time_unit"]]
     if YARDSTICK not in medians:
         sys.exit(f"bench_ab: {binary} ran no {YARDSTICK}")
