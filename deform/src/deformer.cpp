@@ -463,9 +463,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   r.max_normal_bound_angle = normal_bound_angle(moved.max_skipped_bound);
   r.region_points = region_.global() ? model_.size() : region_.points().size();
   r.border_points = band.size();
-  const double step = stored_move_bound(r.max_displacement, extent_);
-  drift_ += step;
-  if (std::isfinite(step)) extent_ += step;
+  add_stored_move(r.max_displacement, drift_, extent_);
 
   keep_probes_outside(probes, r);
   return Outcome::kApplied;

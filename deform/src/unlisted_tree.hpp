@@ -52,7 +52,7 @@ class UnlistedTree {
   void mark_listed(std::uint32_t i) noexcept;
 
   /// Improves (best, best_squared) with the unlisted points at their snapshot positions
-  /// (`xyz`, interleaved): a point wins when closer, or as close with a smaller index. With
+  /// (the tree-ordered copy): a point wins when closer, or as close with a smaller index. With
   /// `by_subtree` (the counts are up to the list) subtrees with no unlisted point are skipped
   /// whole; without, listed points are skipped one by one.
   void nearest(const double* q, const MovedOverlay& list, bool by_subtree, std::uint32_t& best,

@@ -134,9 +134,7 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
       reject(id, "its forces give non-finite positions or normals; the model is left as before the frame");
     }
     min_jacobian_ = std::min(min_jacobian_, moved.min_jacobian);
-    const double step = deform::stored_move_bound(moved.max_displacement, extent_);
-    drift_ += step;
-    if (std::isfinite(step)) extent_ += step;
+    deform::add_stored_move(moved.max_displacement, drift_, extent_);
   }
   ++frames_;
   events_ += frame.size();

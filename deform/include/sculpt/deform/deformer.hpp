@@ -218,7 +218,7 @@ class Deformer {
   PointIndex index_;
   double drift_ = 0.0;
   // No coordinate of the model is larger in magnitude (grown by every pass): the rounding
-  // stored_move_bound() adds to the drift scales with it.
+  // add_stored_move() adds to the drift scales with it.
   double extent_ = 0.0;
   bool index_holds_base_ = true;  // the index snapshot is the model as constructed
   double point_area_ = 0.0;

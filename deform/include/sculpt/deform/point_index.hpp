@@ -2,6 +2,7 @@
 // A k-d tree over a snapshot of a point model's positions, answering exact queries against the
 // model's current positions while the model deforms.
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -15,6 +16,21 @@ namespace sculpt::deform {
 
 class MovedOverlay;
 
+/// Adds to `drift` how far a pass may have moved any point, when its largest displacement as
+/// computed was `displacement` and no coordinate exceeded `extent` in magnitude before it, and
+/// grows `extent` by as much: each new position is rounded to float (half an ulp per
+/// coordinate, which the computed displacement leaves out), and the largest displacement itself
+/// went through float. The deformer and the transfer keep their drift this way.
+inline void add_stored_move(double displacement, double& drift, double& extent) noexcept {
+  const double computed = displacement * (1.0 + 0x1p-20);
+  const double step = computed + 0x1p-23 * (extent + computed);
+  drift += step;
+  if (std::isfinite(step)) extent += step;
+}
+
+/// The largest coordinate magnitude of the model: the first `extent` of add_stored_move().
+double largest_coordinate(const PointModel& model) noexcept;
+
 /// Spatial index over a snapshot of a PointModel's positions.
 ///
 /// Building copies x, y, z into the index's own storage, so the model may be deformed freely
@@ -27,23 +43,11 @@ class MovedOverlay;
 /// without testing its points (each is within the radius wherever it moved). A too-small
 /// `drift` may miss points or report one up to the shortfall beyond the radius
 /// (within_radius), or return a point that is not the nearest (nearest); reported distances
-/// are always true at current positions. stored_move_bound() gives the drift a pass adds.
+/// are always true at current positions. add_stored_move() keeps such a drift.
 ///
 /// Thread safety: all const members (the queries) may run concurrently from any number of
 /// threads on one index; they share no mutable state. rebuild() and assignment must not overlap
 /// any query on the same object — build a new index elsewhere and move it in instead.
-/// How far a pass may have moved any point, for the queries' `drift`, when its largest
-/// displacement as computed was `displacement` and no coordinate exceeded `extent` in magnitude
-/// before it: each new position is rounded to float (half an ulp per coordinate, which the
-/// computed displacement leaves out), and the largest displacement itself went through float.
-inline double stored_move_bound(double displacement, double extent) noexcept {
-  const double computed = displacement * (1.0 + 0x1p-20);
-  return computed + 0x1p-23 * (extent + computed);
-}
-
-/// The largest coordinate magnitude of the model: the `extent` of stored_move_bound().
-double largest_coordinate(const PointModel& model) noexcept;
-
 class PointIndex {
  public:
   /// Index value of Nearest when there is no point at all (empty index).

@@ -71,7 +71,7 @@ class FrameTransfer {
   double rebuild_drift_ = 0.0;
   deform::PointIndex index_;
   double drift_ = 0.0;
-  double extent_ = 0.0;  // no coordinate is larger in magnitude (deform::stored_move_bound)
+  double extent_ = 0.0;  // no coordinate is larger in magnitude (deform::add_stored_move)
   std::size_t frames_ = 0;
   std::size_t events_ = 0;
   std::size_t rebuilds_ = 0;
