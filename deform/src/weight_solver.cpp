@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <limits>
@@ -26,10 +27,26 @@ using SquareRows = std::array<std::array<double, kMaxUnknowns>, kMaxUnknowns>;
 // residual of the unconstrained fit. A block of kBlockRows rows is folded into R column by
 // column; each column costs one reflector (one square root and one division for the whole block,
 // where a Givens rotation per row took one of each per row and column) and the block's updates
-// run over contiguous columns of fixed length, so they vectorise. The whole stays (n + 1)^2
-// doubles plus one block.
+// run over contiguous columns of fixed length, so they vectorise. Tall systems may take the
+// Gram route instead (accumulate() and cholesky(), the same R when the system is well
+// conditioned, checked before it is kept). The whole stays (n + 1)^2 doubles, one block and
+// the Gram route's partial sums.
 constexpr int kBlockConditions = 32;
 constexpr int kBlockRows = 3 * kBlockConditions;
+// From this many conditions on, the Gram route is tried first (below it the reflections cost
+// a few microseconds at most).
+constexpr std::size_t kGramMinConditions = 2 * kBlockConditions;
+// The Gram route's sums: kLanes partial sums per product (one AVX-512 register of doubles;
+// GCC's vector extension splits it where registers are narrower).
+constexpr int kLanes = 8;
+static_assert(kBlockRows % kLanes == 0);
+using Lanes = double __attribute__((vector_size(kLanes * sizeof(double))));
+
+inline Lanes load_lanes(const double* from) {
+  Lanes v;
+  std::memcpy(&v, from, sizeof v);
+  return v;
+}
 
 // Fixed-length columns: Eigen vectorises their dot products and updates (its reductions sum in
 // packets, which plain loops may not do without reassociation).
@@ -64,9 +81,13 @@ class BlockedQr {
  public:
   // Only the n + 1 columns (and R's n + 1 rows) a solve of n unknowns uses are cleared: zeroing
   // all kMaxUnknowns + 1 columns of a block was 24 KB per solve, most of a small solve's memset.
-  explicit BlockedQr(int unknowns) : n_(unknowns) {
+  explicit BlockedQr(int unknowns) : n_(unknowns) { reset(); }
+
+  void reset() {
     for (int i = 0; i <= n_; ++i) std::fill_n(r_[static_cast<std::size_t>(i)].begin(), n_ + 1, 0.0);
     for (int j = 0; j <= n_; ++j) block_[static_cast<std::size_t>(j)].setZero();
+    std::fill_n(partial_.begin(), (n_ + 1) * (n_ + 2) / 2, Lanes{});
+    residual_trusted_ = true;
   }
 
   /// Column j (0..n, n the right-hand side) of the pending block; rows not written stay zero.
@@ -97,10 +118,105 @@ class BlockedQr {
     }
   }
 
+  /// The other route to the same R, for tall well-conditioned systems: add the pending block's
+  /// products to the Gram matrix of [A | b], kept in R's upper triangle (136 dot products of a
+  /// block's columns at n = 15, where folding it took a reflector per column, each a chain of
+  /// a reduction, a square root and a division). A fill writes only its `count` conditions, so
+  /// a partial block's other rows are cleared first; the rest are overwritten by the next fill.
+  void accumulate(std::size_t count) {
+    if (count < static_cast<std::size_t>(kBlockConditions)) {
+      for (int j = 0; j <= n_; ++j) {
+        for (int c = 0; c < 3; ++c)
+          block_[static_cast<std::size_t>(j)]
+              .segment(c * kBlockConditions + static_cast<Eigen::Index>(count),
+                       kBlockConditions - static_cast<Eigen::Index>(count))
+              .setZero();
+      }
+    }
+    // Each product is summed lane-wise into its own vector of partial sums and reduced across
+    // lanes once, in cholesky(): a horizontal sum per product and block was half the time.
+    // Four columns j at a time against one column i: four independent chains of fused
+    // multiply-adds (one chain per product waited on its own latency) that share i's loads.
+    // The sums are GCC vector values so that they stay in registers (as arrays, GCC kept
+    // them on the stack and the stores cost more than the arithmetic).
+    std::size_t product = 0;
+    for (int i = 0; i <= n_; ++i) {
+      const double* a = block_[static_cast<std::size_t>(i)].data();
+      int j = i;
+      for (; j + 4 <= n_ + 1; j += 4) {
+        const double* b0 = block_[static_cast<std::size_t>(j)].data();
+        const double* b1 = block_[static_cast<std::size_t>(j + 1)].data();
+        const double* b2 = block_[static_cast<std::size_t>(j + 2)].data();
+        const double* b3 = block_[static_cast<std::size_t>(j + 3)].data();
+        Lanes s0{}, s1{}, s2{}, s3{};
+        for (int row = 0; row < kBlockRows; row += kLanes) {
+          const Lanes x = load_lanes(a + row);
+          s0 += x * load_lanes(b0 + row);
+          s1 += x * load_lanes(b1 + row);
+          s2 += x * load_lanes(b2 + row);
+          s3 += x * load_lanes(b3 + row);
+        }
+        partial_[product++] += s0;
+        partial_[product++] += s1;
+        partial_[product++] += s2;
+        partial_[product++] += s3;
+      }
+      for (; j <= n_; ++j) {
+        const double* b = block_[static_cast<std::size_t>(j)].data();
+        Lanes sum{};
+        for (int row = 0; row < kBlockRows; row += kLanes) sum += load_lanes(a + row) * load_lanes(b + row);
+        partial_[product++] += sum;
+      }
+    }
+  }
+
+  /// Replaces the accumulated Gram matrix by its Cholesky factor: R of [A | b] up to the signs of
+  /// its rows (A^T A = R^T R either way). False, leaving a factor to be discarded, when a pivot of
+  /// A's columns is not positive and finite. The last pivot, the residual's square, is the
+  /// difference |b|^2 - |Q^T b|^2 and cancels when the fit is close; it is floored at zero, and
+  /// `residual_trusted()` says whether it kept enough digits.
+  bool cholesky() {
+    std::size_t product = 0;
+    for (int i = 0; i <= n_; ++i) {
+      for (int j = i; j <= n_; ++j) {
+        const Lanes& partial = partial_[product++];
+        double sum = 0.0;
+        for (int l = 0; l < kLanes; ++l) sum += partial[l];
+        r_[i][j] = sum;
+      }
+    }
+    const double rhs_squared = r_[n_][n_];
+    for (int k = 0; k <= n_; ++k) {
+      double pivot = r_[k][k];
+      for (int i = 0; i < k; ++i) pivot -= r_[i][k] * r_[i][k];
+      if (k == n_) {
+        // A relative residual above 1e-3: the cancellation costs at most 6 of 16 digits.
+        residual_trusted_ = pivot >= 1e-6 * rhs_squared;
+        r_[k][k] = std::sqrt(std::max(pivot, 0.0));
+        return true;
+      }
+      if (!(pivot > 0.0) || !std::isfinite(pivot)) return false;
+      const double diagonal = std::sqrt(pivot);
+      r_[k][k] = diagonal;
+      for (int j = k + 1; j <= n_; ++j) {
+        double sum = r_[k][j];
+        for (int i = 0; i < k; ++i) sum -= r_[i][k] * r_[i][j];
+        r_[k][j] = sum / diagonal;
+      }
+    }
+    return true;
+  }
+
+  /// False only after cholesky() found the residual's pivot cancelled.
+  bool residual_trusted() const { return residual_trusted_; }
+
   double at(int i, int j) const { return r_[i][j]; }
 
  private:
   int n_;
+  bool residual_trusted_ = true;
+  // The Gram route's products of columns i <= j, packed row by row, kLanes partial sums each.
+  std::array<Lanes, (kMaxUnknowns + 1) * (kMaxUnknowns + 2) / 2> partial_;
   std::array<std::array<double, kMaxUnknowns + 1>, kMaxUnknowns + 1> r_;
   std::array<BlockColumn, kMaxUnknowns + 1> block_;
 };
@@ -207,6 +323,51 @@ bool svd_solve(int n, const SquareRows& r, const std::array<double, kMaxUnknowns
     solution += b[i] * (w[i].dot(y) * inverse / s);
   }
   for (int i = 0; i < n; ++i) x[i] = solution[i];
+  return true;
+}
+
+// Past this condition number of the equilibrated factor the direct solve below hands over to
+// the Jacobi SVD. Every frame of the benchmarks (sphere, bust, both dragons, one to five
+// fingers, global and region) measured 1.2 to 2.3, so the limit leaves room for fingers far
+// closer together; below it the eigenvalues of R^T R give sigma_min to a relative n eps
+// kappa^2 <= 4e-9 (n <= 30), well inside what the report and its tests need (1e-6).
+constexpr double kDirectConditionLimit = 1e3;
+
+// The well-conditioned case without the SVD: the extreme singular values from the eigenvalues of
+// the n x n Gram matrix R^T R (a tridiagonal QR, a few microseconds, where the Jacobi sweeps
+// took 20 at n = 15), then R x = qtb by back substitution, which is the minimum-norm solution
+// whenever R has full rank and no damping acts. Returns false, having written nothing but
+// `report`'s condition fields, when any of that does not hold; the caller then runs the SVD.
+bool direct_solve(int n, const SquareRows& r, const std::array<double, kMaxUnknowns>& qtb, const SolverOptions& options,
+                  SolveReport& report, std::array<double, kMaxUnknowns>& x) {
+  using Gram = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxUnknowns, kMaxUnknowns>;
+  Gram gram(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = i; j < n; ++j) {
+      double sum = 0.0;
+      for (int k = 0; k <= i; ++k) sum += r[k][i] * r[k][j];
+      gram(i, j) = gram(j, i) = sum;
+    }
+  }
+  const Eigen::SelfAdjointEigenSolver<Gram> eigen(gram, Eigen::EigenvaluesOnly);
+  if (eigen.info() != Eigen::Success) return false;
+  const double lowest = eigen.eigenvalues()(0), highest = eigen.eigenvalues()(n - 1);
+  if (!(lowest > 0.0) || !std::isfinite(highest)) return false;
+  const double condition = std::sqrt(highest / lowest);
+  if (!(condition <= kDirectConditionLimit) || condition > options.max_condition ||
+      !(1.0 / condition > options.rank_tolerance))
+    return false;
+  std::array<double, kMaxUnknowns> solution{};
+  for (int i = n - 1; i >= 0; --i) {
+    double sum = qtb[i];
+    for (int j = i + 1; j < n; ++j) sum -= r[i][j] * solution[j];
+    solution[i] = sum / r[i][i];
+    if (!std::isfinite(solution[i])) return false;
+  }
+  report.rank = static_cast<std::size_t>(n);
+  report.condition = report.effective_condition = condition;
+  report.damped = false;
+  x = solution;
   return true;
 }
 
@@ -324,12 +485,15 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
         double* x = col.data();
         double* y = x + kBlockConditions;
         double* z = y + kBlockConditions;
-        for (std::size_t q = 0; q < count; ++q) {
-          const double f = weight[q] * factor[s][k];
-          x[q] = ((k == 0 ? diag[q] : 0.0) + g[q] * rx[q] * rk[q]) * f;
-          y[q] = ((k == 1 ? diag[q] : 0.0) + g[q] * ry[q] * rk[q]) * f;
-          z[q] = ((k == 2 ? diag[q] : 0.0) + g[q] * rz[q] * rk[q]) * f;
-        }
+        // One loop per component: with the three stores in one loop the compiler cannot rule
+        // out that x, y and z overlap (it does not know count <= 32) and kept it scalar.
+        const double fk = factor[s][k];
+        for (std::size_t q = 0; q < count; ++q)
+          x[q] = ((k == 0 ? diag[q] : 0.0) + g[q] * rx[q] * rk[q]) * (weight[q] * fk);
+        for (std::size_t q = 0; q < count; ++q)
+          y[q] = ((k == 1 ? diag[q] : 0.0) + g[q] * ry[q] * rk[q]) * (weight[q] * fk);
+        for (std::size_t q = 0; q < count; ++q)
+          z[q] = ((k == 2 ? diag[q] : 0.0) + g[q] * rz[q] * rk[q]) * (weight[q] * fk);
       }
     }
   };
@@ -342,36 +506,67 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
   };
 
   const std::size_t conditions = displacements.size() + tractions.size();
-  // One pass builds every row once and folds it into R, a block at a time. Column norms of A
-  // equal those of R (Q is orthogonal), so equilibrating R's columns afterwards is the same as
-  // equilibrating A's first: the rank test and the condition number then do not depend on units
-  // (forces of 1e7 against weights of 1).
+  // One pass builds every row once and reduces it into R, a block at a time: by the Gram
+  // matrix and its Cholesky factor when the system is tall enough for that to pay, and by
+  // Householder reflections otherwise or when the Cholesky route cannot vouch for its result.
+  // Column norms of A equal those of R (Q is orthogonal), so equilibrating R's columns
+  // afterwards is the same as equilibrating A's first: the rank test and the condition number
+  // then do not depend on units (forces of 1e7 against weights of 1).
   BlockedQr qr(unknowns);
   double rhs_norm = 0.0;
-  for (std::size_t first = 0; first < conditions; first += kBlockConditions) {
-    const std::size_t count = std::min<std::size_t>(kBlockConditions, conditions - first);
-    fill(first, count, qr);
-    rhs_norm += dot_column(qr.column(unknowns), qr.column(unknowns));
-    qr.fold();
-  }
-  rhs_norm = std::sqrt(rhs_norm);
-  std::array<double, kMaxUnknowns> column_norm{};
-  for (int j = 0; j < unknowns; ++j) {
-    for (int i = 0; i <= j; ++i) column_norm[j] += qr.at(i, j) * qr.at(i, j);
-    column_norm[j] = std::sqrt(column_norm[j]);
-  }
+  auto reduce_rows = [&](bool gram) {
+    rhs_norm = 0.0;
+    for (std::size_t first = 0; first < conditions; first += kBlockConditions) {
+      const std::size_t count = std::min<std::size_t>(kBlockConditions, conditions - first);
+      fill(first, count, qr);
+      if (gram) {
+        qr.accumulate(count);
+      } else {
+        rhs_norm += dot_column(qr.column(unknowns), qr.column(unknowns));
+        qr.fold();
+      }
+    }
+    if (gram) rhs_norm = qr.at(unknowns, unknowns);
+    rhs_norm = std::sqrt(rhs_norm);
+    return !gram || qr.cholesky();
+  };
 
-  // The equilibrated factor, row by row (only its upper triangle is non-zero).
+  std::array<double, kMaxUnknowns> column_norm{};
   SquareRows r{};
   std::array<double, kMaxUnknowns> qtb{};
-  for (int i = 0; i < unknowns; ++i) {
-    qtb[i] = qr.at(i, unknowns);
-    for (int j = i; j < unknowns; ++j) r[i][j] = column_norm[j] > 0.0 ? qr.at(i, j) / column_norm[j] : 0.0;
-  }
+  auto equilibrate = [&] {
+    for (int j = 0; j < unknowns; ++j) {
+      column_norm[j] = 0.0;
+      for (int i = 0; i <= j; ++i) column_norm[j] += qr.at(i, j) * qr.at(i, j);
+      column_norm[j] = std::sqrt(column_norm[j]);
+    }
+    // The equilibrated factor, row by row (only its upper triangle is non-zero).
+    for (int i = 0; i < unknowns; ++i) {
+      qtb[i] = qr.at(i, unknowns);
+      for (int j = i; j < unknowns; ++j) r[i][j] = column_norm[j] > 0.0 ? qr.at(i, j) / column_norm[j] : 0.0;
+    }
+  };
   std::array<double, kMaxUnknowns> scaled_solution{};
-  const bool solved = unknowns <= 8    ? svd_solve<8>(unknowns, r, qtb, options_, report, scaled_solution)
-                      : unknowns <= 16 ? svd_solve<16>(unknowns, r, qtb, options_, report, scaled_solution)
-                                       : svd_solve<32>(unknowns, r, qtb, options_, report, scaled_solution);
+  auto svd = [&] {
+    return unknowns <= 8    ? svd_solve<8>(unknowns, r, qtb, options_, report, scaled_solution)
+           : unknowns <= 16 ? svd_solve<16>(unknowns, r, qtb, options_, report, scaled_solution)
+                            : svd_solve<32>(unknowns, r, qtb, options_, report, scaled_solution);
+  };
+
+  // The Gram matrix squares the condition number, so its R is kept only where the direct
+  // solve accepts it (equilibrated condition <= 1e3: R's relative error stays near 1e-10);
+  // anything else is factored again by reflections and may go on to the SVD.
+  bool solved = false;
+  if (conditions >= kGramMinConditions && reduce_rows(true)) {
+    equilibrate();
+    solved = direct_solve(unknowns, r, qtb, options_, report, scaled_solution);
+    if (!solved) qr.reset();
+  }
+  if (!solved) {
+    reduce_rows(false);
+    equilibrate();
+    solved = direct_solve(unknowns, r, qtb, options_, report, scaled_solution) || svd();
+  }
   if (!solved) return report;
   const std::size_t rank = report.rank;
 
@@ -385,10 +580,11 @@ SolveReport WeightSolver::solve(const Kernel& kernel, std::span<const SourceSetu
   }
 
   // With every direction kept and no damping, the augmented factor's last diagonal is the
-  // residual of the least-squares fit. Otherwise it is evaluated on the rows themselves, a
-  // second pass, so it is true for truncated and damped solutions too.
+  // residual of the least-squares fit. Otherwise (or when the Gram route's last pivot cancelled)
+  // it is evaluated on the rows themselves, a second pass, so it is true for truncated and
+  // damped solutions too.
   double residual2 = qr.at(unknowns, unknowns) * qr.at(unknowns, unknowns);
-  const bool exact_fit = rank == static_cast<std::size_t>(unknowns) && !report.damped;
+  const bool exact_fit = rank == static_cast<std::size_t>(unknowns) && !report.damped && qr.residual_trusted();
   if (!exact_fit) residual2 = 0.0;
   for (std::size_t first = 0; first < conditions && !exact_fit; first += kBlockConditions) {
     const std::size_t count = std::min<std::size_t>(kBlockConditions, conditions - first);

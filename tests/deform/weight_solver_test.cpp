@@ -345,6 +345,73 @@ TEST(WeightSolver, InconsistentConditionsReportTheirResidual) {
   EXPECT_NEAR(r.relative_residual, 1.0, 1e-12);
 }
 
+// Tall systems (the Gram route's size) whose targets come from known forces: the fit is exact,
+// so the residual's pivot |b|^2 - |Q^T b|^2 cancels to rounding noise, about 1e-8 |b| after its
+// square root where the noise is positive. The solver must notice and evaluate the residual on
+// the rows instead: the reported residual is checked against one recomputed here from the
+// reported forces, over several point sets (the noise's sign varies with them).
+TEST(WeightSolver, AnExactTallFitReportsItsTrueResidual) {
+  const std::vector<SourceSetup> sources = five_sources();
+  const std::vector<Vec3> truth = {{1e5, -2e5, 3e5}, {-4e5, 1e5, 2e5}, {2e5, 2e5, -1e5}, {0, 3e5, 1e5}, {-1e5, 0, 4e5}};
+  for (unsigned seed = 0; seed < 12; ++seed) {
+    std::vector<DisplacementCondition> bcs;
+    for (const Vec3& q : points_on_sphere(100 + seed, 300)) bcs.push_back({q, field(kKelvin, sources, truth, q)});
+    WeightSolver solver({WeightForm::kForce});
+    std::vector<Vec3> weights(5), effective(5);
+    const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+    ASSERT_TRUE(r.ok) << seed;
+    EXPECT_EQ(r.rank, 15u) << seed;
+    double residual2 = 0.0, rhs2 = 0.0;
+    for (const DisplacementCondition& d : bcs) {
+      const Vec3 miss = field(kKelvin, sources, effective, d.point) - d.displacement;
+      residual2 += dot(miss, miss);
+      rhs2 += dot(d.displacement, d.displacement);
+    }
+    EXPECT_NEAR(r.residual, std::sqrt(residual2), 1e-13 * std::sqrt(rhs2)) << seed;
+    for (std::size_t s = 0; s < 5; ++s) EXPECT_LT(norm(effective[s] - truth[s]), 1e-9 * norm(truth[s])) << seed;
+  }
+}
+
+// Two sources drawn together, 1 to 1e-4 apart over 200 conditions: the condition number climbs
+// from about 3 to past 1e6, across the limit where the solver stops trusting its Gram matrix and
+// its direct solve and turns to reflections and the SVD. On both sides the condition must match
+// Eigen's SVD of the equilibrated stacked rows, and the forces a dense least-squares fit.
+TEST(WeightSolver, EveryRouteMatchesTheDenseSolveAsTheConditionGrows) {
+  bool below = false, above = false;
+  for (double gap : {1.0, 0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3, 3e-4, 1e-4}) {
+    const std::vector<SourceSetup> sources = {{{0, 0, 1.2}, {}}, {{gap, 0, 1.2}, {}}};
+    const std::vector<DisplacementCondition> bcs = noisy_conditions(7, 200, 1.0);
+    const DenseFit truth = dense_fit(kKelvin, sources, bcs);
+    Eigen::MatrixXd a(600, 6);
+    for (std::size_t i = 0; i < bcs.size(); ++i) {
+      for (std::size_t s = 0; s < 2; ++s) {
+        const Mat3 m = displacement_matrix(kKelvin, sources[s].source, bcs[i].point);
+        for (int c = 0; c < 3; ++c)
+          for (int j = 0; j < 3; ++j)
+            a(static_cast<Eigen::Index>(3 * i) + c, static_cast<Eigen::Index>(3 * s) + j) = bcs[i].weight * m(c, j);
+      }
+    }
+    for (Eigen::Index j = 0; j < 6; ++j) a.col(j) /= a.col(j).norm();
+    const Eigen::VectorXd sigma = Eigen::JacobiSVD<Eigen::MatrixXd>(a).singularValues();
+    const double expected = sigma(0) / sigma(5);
+    (expected < 1e3 ? below : above) = true;
+
+    WeightSolver solver({WeightForm::kForce});
+    std::vector<Vec3> weights(2), effective(2);
+    const SolveReport r = solver.solve(kKelvin, sources, bcs, {}, weights, effective);
+    ASSERT_TRUE(r.ok) << gap;
+    EXPECT_EQ(r.rank, 6u) << gap;
+    EXPECT_NEAR(r.condition, expected, 1e-6 * expected) << gap;
+    double largest = 0.0;
+    for (const Vec3& f : truth.forces) largest = std::max(largest, norm(f));
+    // A least-squares solution loses about kappa eps of its digits, whatever the method.
+    for (std::size_t s = 0; s < 2; ++s)
+      EXPECT_LT(norm(effective[s] - truth.forces[s]), 1e-12 * expected * largest + 1e-9 * largest) << gap;
+    EXPECT_NEAR(r.residual, truth.residual, 1e-9 * truth.residual) << gap;
+  }
+  EXPECT_TRUE(below && above);
+}
+
 TEST(WeightSolver, NothingToSolveIsNotOk) {
   WeightSolver solver;
   std::vector<Vec3> weights(1), effective(1);

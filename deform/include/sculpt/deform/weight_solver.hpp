@@ -70,10 +70,14 @@ struct SolveReport {
   bool damped = false;               ///< Tikhonov fallback used
 };
 
-/// Solves for the weights without forming the normal equations: rows are folded, 96 at a time,
-/// into a small upper-triangular factor (blocked Householder QR), whose SVD (one-sided Jacobi)
-/// then gives the rank, the condition number and the minimum-norm solution. Working storage is
-/// fixed-size, so solve() neither allocates nor throws, whatever the number of rows.
+/// Solves for the weights: rows are reduced, 96 at a time, into a small upper-triangular factor
+/// R. Where the column-equilibrated system is well conditioned (condition <= 1e3, every frame
+/// measured: 1.2 to 2.3), R comes from the Gram matrix of a tall system by Cholesky, and the
+/// weights by back substitution, with the condition number from the eigenvalues of R^T R.
+/// Anything else is reduced by blocked Householder QR, without forming the normal equations,
+/// and R's SVD (one-sided Jacobi) gives the rank, the condition number and the minimum-norm or
+/// damped solution. Working storage is fixed-size, so solve() neither allocates nor throws,
+/// whatever the number of rows.
 class WeightSolver {
  public:
   explicit WeightSolver(const SolverOptions& options = {}) : options_(options) { options_.validate(); }
