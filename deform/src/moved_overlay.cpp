@@ -18,18 +18,23 @@ void MovedOverlay::reset_boxes() noexcept {
   for (Box& b : boxes_) b = Box{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
 }
 
-void MovedOverlay::add(const PointModel& model, std::uint32_t i) noexcept {
-  std::size_t s = slot_[i];
-  if (s == 0) {
-    if (count_ == ids_.size()) {
-      overflowed_ = true;
-      return;
-    }
-    ids_[count_] = i;
-    slot_[i] = static_cast<std::uint32_t>(++count_);
-    listed_[i / 64] |= std::uint64_t{1} << (i % 64);
-    s = count_;
+std::size_t MovedOverlay::list(std::uint32_t i) noexcept {
+  // The bit first: the bits of 100,000 points fit in the cache, their slots do not, and a new
+  // point's slot is only written (a store does not hold a loop up as a load does).
+  if (contains(i)) return slot_[i];
+  if (count_ == ids_.size()) {
+    overflowed_ = true;
+    return 0;
   }
+  ids_[count_] = i;
+  slot_[i] = static_cast<std::uint32_t>(++count_);
+  listed_[i / 64] |= std::uint64_t{1} << (i % 64);
+  return count_;
+}
+
+void MovedOverlay::add(const PointModel& model, std::uint32_t i) noexcept {
+  const std::size_t s = list(i);
+  if (s == 0) return;
   Box& b = boxes_[(s - 1) / kBlock];
   const float p[3] = {model.x[i], model.y[i], model.z[i]};
   for (int d = 0; d < 3; ++d) {
@@ -39,7 +44,41 @@ void MovedOverlay::add(const PointModel& model, std::uint32_t i) noexcept {
 }
 
 void MovedOverlay::note(const PointModel& model, std::span<const std::uint32_t> points) noexcept {
-  for (std::uint32_t i : points) add(model, i);
+  // add()'s work, with the box being grown held in registers until the slots move on to the
+  // next block: growing it in memory point by point made each minimum wait on the store before
+  // it, and that chain was most of the time (a region frame notes thousands of points, new
+  // ones in consecutive slots).
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::size_t open = kNone;
+  float low[3] = {kInf, kInf, kInf}, high[3] = {-kInf, -kInf, -kInf};
+  auto flush = [&] {
+    if (open == kNone) return;
+    Box& b = boxes_[open];
+    for (int d = 0; d < 3; ++d) {
+      b.low[d] = std::min(b.low[d], low[d]);
+      b.high[d] = std::max(b.high[d], high[d]);
+    }
+  };
+  for (std::uint32_t i : points) {
+    const std::size_t s = list(i);
+    if (s == 0) continue;
+    const std::size_t box = (s - 1) / kBlock;
+    if (box != open) {
+      flush();
+      open = box;
+      for (int d = 0; d < 3; ++d) {
+        low[d] = kInf;
+        high[d] = -kInf;
+      }
+    }
+    const float p[3] = {model.x[i], model.y[i], model.z[i]};
+    for (int d = 0; d < 3; ++d) {
+      low[d] = std::min(low[d], p[d]);
+      high[d] = std::max(high[d], p[d]);
+    }
+  }
+  flush();
 }
 
 void MovedOverlay::clear() noexcept {

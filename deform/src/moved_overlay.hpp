@@ -85,6 +85,8 @@ class MovedOverlay {
   struct Box {
     float low[3], high[3];
   };
+  /// Lists point i if it is not yet listed; its slot + 1, or 0 when the list overflowed.
+  std::size_t list(std::uint32_t i) noexcept;
   void add(const PointModel& model, std::uint32_t i) noexcept;
   void reset_boxes() noexcept;
   static double box_squared_distance(const Box& b, const double* q) noexcept;
