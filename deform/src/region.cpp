@@ -36,6 +36,18 @@ void radix_sort(std::vector<std::uint32_t>& values, std::vector<std::uint32_t>& 
   }
 }
 
+// Whether no point can lie within `radius` of two of the contacts: every pair of centres is
+// more than twice the radius apart, with a margin far above the rounding of the distances.
+bool balls_apart(std::span<const Vec3> contacts, double radius) noexcept {
+  const double apart = 2.0 * radius * (1.0 + 1e-9);
+  for (std::size_t a = 0; a < contacts.size(); ++a) {
+    for (std::size_t b = a + 1; b < contacts.size(); ++b) {
+      if (!(squared_norm(contacts[a] - contacts[b]) > apart * apart)) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 Region::Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index, double bc_radius)
@@ -85,6 +97,24 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   if (settings_.kind != RegionSettings::Kind::kRadius) return;  // fixed for the others
   points_.clear();
   border_.clear();
+  const double inner = settings_.radius - border_width_;
+  const double inner_squared = inner * inner;
+  if (balls_apart(contacts, settings_.radius)) {
+    // Fingers apart (the common case): no point is found twice, and a point can only be deep
+    // in the ball that found it, so neither the per-point flags (two scattered accesses a
+    // point) nor a test against every contact is needed. The band, sorted on its own, is the
+    // same ascending list the general case builds.
+    for (const Vec3& c : contacts) {
+      index.within_radius(model, c, settings_.radius, scratch_, drift, /*ascending=*/false);
+      for (std::uint32_t i : scratch_) {
+        points_.push_back(i);
+        if (!(squared_norm(model.position(i) - c) <= inner_squared)) border_.push_back(i);
+      }
+    }
+    radix_sort(points_, scratch_);
+    radix_sort(border_, scratch_);
+    return;
+  }
   for (const Vec3& c : contacts) {
     index.within_radius(model, c, settings_.radius, scratch_, drift, /*ascending=*/false);
     for (std::uint32_t i : scratch_) {
@@ -98,8 +128,6 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   // inside the sort only exchange the two.
   radix_sort(points_, scratch_);
   // A point is in the band when it is not deeper than the border width inside any ball.
-  const double inner = settings_.radius - border_width_;
-  const double inner_squared = inner * inner;
   for (std::uint32_t i : points_) {
     member_[i] = 0;
     const Vec3 q = model.position(i);

@@ -41,12 +41,20 @@ TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
   settings.radius = 0.3;
   const double bc_radius = 0.02;
   Region region(settings, model, index, bc_radius);
-  // Two overlapping balls and one apart: overlapping points must appear once.
+  // Two overlapping balls and one apart: overlapping points must appear once. Balls all apart
+  // (no two centres within twice the radius) take the build's shortcut: one pass per ball, no
+  // flags, the band sorted on its own; the last frame is apart by a hair more than that.
+  const Vec3 near_pole = model.position(100);
+  const Vec3 just_apart = near_pole + normalized(Vec3{1, 1, 0}) * (2.0 * settings.radius * (1.0 + 1e-6));
   const std::vector<std::vector<Vec3>> frames = {
       {model.position(100)},
       {model.position(100), model.position(20000), model.position(20050), model.position(39000)},
       {model.position(7)},
+      {model.position(100), model.position(20000), model.position(39000)},
+      {near_pole, just_apart},
   };
+  ASSERT_GT(norm(model.position(100) - model.position(20000)), 2.0 * settings.radius);
+  ASSERT_GT(norm(model.position(20000) - model.position(39000)), 2.0 * settings.radius);
   for (const std::vector<Vec3>& contacts : frames) {
     region.build(model, index, 0.0, contacts);
     const Expected e = brute_force(model, contacts, settings.radius, settings.radius - region.border_width());
