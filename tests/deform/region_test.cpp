@@ -33,7 +33,7 @@ Expected brute_force(const PointModel& model, const std::vector<Vec3>& contacts,
 }
 
 TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
-  // 40,000 points: indices need two of the sort's 11-bit passes.
+  // 40,000 points: indices need two of the sort's passes (of 8 bits each).
   const PointModel model = make_sphere(40000);
   const PointIndex index(model);
   RegionSettings settings;
