@@ -1,6 +1,7 @@
 #include "sculpt/deform/displacement_field.hpp"
 
 #include "sculpt/deform/inverse_sqrt.hpp"
+#include "lane_vector.hpp"
 
 #include <algorithm>
 #include <array>
@@ -121,16 +122,83 @@ void add_sources(const SourceTable<T>& t, Block<T>& b, GradientBlock<T>& gb) {
   add_sources_with<T, kGradient, kBound, false>(t, b, gb);
 }
 
+// A fused multiply-add and a square root of scalars or of lanes (the same IEEE operation).
+template <typename U>
+[[gnu::always_inline]] inline U fused(U a, U b, U c) {
+  if constexpr (std::is_floating_point_v<U>) {
+    return std::fma(a, b, c);
+  } else {
+    return lanes::fma(a, b, c);
+  }
+}
+
+// c in every lane (U is a scalar or lanes of T).
+template <typename U, typename T>
+inline U every(T c) {
+  if constexpr (std::is_floating_point_v<U>) {
+    return c;
+  } else {
+    return lanes::splat<U>(c);
+  }
+}
+
+template <typename U>
+inline U root(U a) {
+  if constexpr (std::is_floating_point_v<U>) {
+    return std::sqrt(a);
+  } else {
+    return lanes::sqrt(a);
+  }
+}
+
+// One source's share at one point or at a register of points (U is T or its lanes), from
+// r = Q - P and inv = 1/sqrt(r.r + eps^2): adds the displacement to u and, with kGradient, the
+// gradient to g, by the formulas above. The block passes and the fused pass both call it, so
+// they give the same bits.
+template <typename T, bool kGradient, typename U>
+[[gnu::always_inline]] inline void add_share(const SourceTable<T>& t, std::size_t s, U rx, U ry, U rz, U inv, U (&u)[3],
+                                             U (&g)[3][3]) {
+  const U fx = every<U>(t.fx[s]), fy = every<U>(t.fy[s]), fz = every<U>(t.fz[s]);
+  const U inv2 = inv * inv;
+  const U inv3 = inv2 * inv;
+  const U rf = rx * fx + ry * fy + rz * fz;
+  const U diag = t.alpha * inv + t.beta * inv3;
+  const U h = t.gamma * inv3;
+  const U radial = h * rf;
+  u[0] = u[0] + (diag * fx + radial * rx);
+  u[1] = u[1] + (diag * fy + radial * ry);
+  u[2] = u[2] + (diag * fz + radial * rz);
+  if constexpr (kGradient) {
+    const U inv5 = inv3 * inv2;
+    const U g_prime = fused(every<U>(-(T(3) * t.beta)), inv5, -t.alpha * inv3);
+    const U h_prime_rf = T(-3) * t.gamma * inv5 * rf;
+    const U ax = fused(g_prime, fx, h_prime_rf * rx);
+    const U ay = fused(g_prime, fy, h_prime_rf * ry);
+    const U az = fused(g_prime, fz, h_prime_rf * rz);
+    const U bx = h * rx, by = h * ry, bz = h * rz;
+    // Written out: with the diagonal chosen by a scalar condition between lane values
+    // (`l == m ? g + radial : g`, in a loop), GCC 12 at -O3 kept the radial term in lane 0 only
+    // (the field tests caught it).
+    g[0][0] = fused(ax, rx, fused(bx, fx, g[0][0] + radial));
+    g[0][1] = fused(ax, ry, fused(bx, fy, g[0][1]));
+    g[0][2] = fused(ax, rz, fused(bx, fz, g[0][2]));
+    g[1][0] = fused(ay, rx, fused(by, fx, g[1][0]));
+    g[1][1] = fused(ay, ry, fused(by, fy, g[1][1] + radial));
+    g[1][2] = fused(ay, rz, fused(by, fz, g[1][2]));
+    g[2][0] = fused(az, rx, fused(bz, fx, g[2][0]));
+    g[2][1] = fused(az, ry, fused(bz, fy, g[2][1]));
+    g[2][2] = fused(az, rz, fused(bz, fz, g[2][2] + radial));
+  }
+}
+
 // One source over the block. The first one starts the sums from zero in registers (same
 // values as adding to zeroed arrays, without clearing twelve arrays per block first).
 template <typename T, bool kGradient, bool kFirst, bool kBound, bool kEstimate>
 void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb) {
   static_assert(!kEstimate || std::is_same_v<T, float>, "the estimate is a float one");
   const std::size_t n = b.size;
-  const T alpha = t.alpha, beta = t.beta, gamma = t.gamma, eps2 = t.eps2;
-  const T minus_alpha = -alpha, minus_3beta = -(T(3) * beta), minus_3gamma = T(-3) * gamma;
+  const T eps2 = t.eps2;
   const T px = t.px[s], py = t.py[s], pz = t.pz[s];
-  const T fx = t.fx[s], fy = t.fy[s], fz = t.fz[s];
   const T bound_r2 = t.bound_r2[s], bound_r4 = t.bound_r4[s];
   const float* __restrict qx = b.qx;
   const float* __restrict qy = b.qy;
@@ -162,69 +230,76 @@ void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlo
     } else {
       inv = T(1) / std::sqrt(rx * rx + ry * ry + rz * rz + eps2);
     }
-    const T inv2 = inv * inv;
-    const T inv3 = inv2 * inv;
-    const T rf = rx * fx + ry * fy + rz * fz;
-    const T diag = alpha * inv + beta * inv3;
-    const T h = gamma * inv3;
-    const T radial = h * rf;
-    b.ux[k] = sum(b.ux, k) + (diag * fx + radial * rx);
-    b.uy[k] = sum(b.uy, k) + (diag * fy + radial * ry);
-    b.uz[k] = sum(b.uz, k) + (diag * fz + radial * rz);
-    if constexpr (kBound) b.bound[k] = sum(b.bound, k) + (bound_r2 + bound_r4 * inv2) * inv2;
+    T u[3] = {sum(b.ux, k), sum(b.uy, k), sum(b.uz, k)};
+    T g[3][3] = {};
     if constexpr (kGradient) {
-      const T inv5 = inv3 * inv2;
-      const T g_prime = std::fma(minus_3beta, inv5, minus_alpha * inv3);
-      const T h_prime_rf = minus_3gamma * inv5 * rf;
-      const T ax = std::fma(g_prime, fx, h_prime_rf * rx);
-      const T ay = std::fma(g_prime, fy, h_prime_rf * ry);
-      const T az = std::fma(g_prime, fz, h_prime_rf * rz);
-      const T bx = h * rx, by = h * ry, bz = h * rz;
-      auto& g = gb.g;
-      g[0][0][k] = std::fma(ax, rx, std::fma(bx, fx, sum(g[0][0], k) + radial));
-      g[0][1][k] = std::fma(ax, ry, std::fma(bx, fy, sum(g[0][1], k)));
-      g[0][2][k] = std::fma(ax, rz, std::fma(bx, fz, sum(g[0][2], k)));
-      g[1][0][k] = std::fma(ay, rx, std::fma(by, fx, sum(g[1][0], k)));
-      g[1][1][k] = std::fma(ay, ry, std::fma(by, fy, sum(g[1][1], k) + radial));
-      g[1][2][k] = std::fma(ay, rz, std::fma(by, fz, sum(g[1][2], k)));
-      g[2][0][k] = std::fma(az, rx, std::fma(bz, fx, sum(g[2][0], k)));
-      g[2][1][k] = std::fma(az, ry, std::fma(bz, fy, sum(g[2][1], k)));
-      g[2][2][k] = std::fma(az, rz, std::fma(bz, fz, sum(g[2][2], k) + radial));
+      for (int l = 0; l < 3; ++l) {
+        for (int m = 0; m < 3; ++m) g[l][m] = sum(gb.g[l][m], k);
+      }
+    }
+    add_share<T, kGradient>(t, s, rx, ry, rz, inv, u, g);
+    b.ux[k] = u[0];
+    b.uy[k] = u[1];
+    b.uz[k] = u[2];
+    if constexpr (kBound) {
+      const T inv2 = inv * inv;
+      b.bound[k] = sum(b.bound, k) + (bound_r2 + bound_r4 * inv2) * inv2;
+    }
+    if constexpr (kGradient) {
+      for (int l = 0; l < 3; ++l) {
+        for (int m = 0; m < 3; ++m) gb.g[l][m][k] = g[l][m];
+      }
     }
   }
 }
 
-// det(I + grad u) at block point k and, when `kCarry`, the block's normal k carried by
-// Nanson's formula (MATH.md §6): n' = normalize(cof(Fg) n), cof(Fg) = det(Fg) Fg^-T. The
-// cofactor is used as it is: where the frame folded (det <= 0) no normal formula is
-// meaningful, and the fold guard rejects the frame before anyone reads that normal.
-template <typename T, bool kCarry>
-inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, float& nx, float& ny, float& nz) {
-  const T f00 = T(1) + gb.g[0][0][k], f01 = gb.g[0][1][k], f02 = gb.g[0][2][k];
-  const T f10 = gb.g[1][0][k], f11 = T(1) + gb.g[1][1][k], f12 = gb.g[1][2][k];
-  const T f20 = gb.g[2][0][k], f21 = gb.g[2][1][k], f22 = T(1) + gb.g[2][2][k];
+// det(I + grad u) from the gradient g (of one point, or of a register of them: U is T or its
+// lanes) and, when `kCarry`, the normal (n0, n1, n2) carried by Nanson's formula (MATH.md §6):
+// n' = normalize(cof(Fg) n), cof(Fg) = det(Fg) Fg^-T. The cofactor is used as it is: where the
+// frame folded (det <= 0) no normal formula is meaningful, and the fold guard rejects the frame
+// before anyone reads that normal.
+template <typename T, bool kCarry, typename U>
+inline U jacobian_and_normal(const U (&g)[3][3], U& n0, U& n1, U& n2) {
+  const U f00 = T(1) + g[0][0], f01 = g[0][1], f02 = g[0][2];
+  const U f10 = g[1][0], f11 = T(1) + g[1][1], f12 = g[1][2];
+  const U f20 = g[2][0], f21 = g[2][1], f22 = T(1) + g[2][2];
   // a b - c d with one rounding less: fma(a, b, -(c d)).
-  auto cross_term = [](T a, T b, T c, T d) { return std::fma(a, b, -(c * d)); };
-  const T c00 = cross_term(f11, f22, f12, f21), c01 = cross_term(f12, f20, f10, f22);
-  const T c02 = cross_term(f10, f21, f11, f20);
-  const T det = std::fma(f00, c00, std::fma(f01, c01, f02 * c02));
+  auto cross_term = [](U a, U b, U c, U d) { return fused(a, b, -(c * d)); };
+  const U c00 = cross_term(f11, f22, f12, f21), c01 = cross_term(f12, f20, f10, f22);
+  const U c02 = cross_term(f10, f21, f11, f20);
+  const U det = fused(f00, c00, fused(f01, c01, f02 * c02));
   if constexpr (kCarry) {
-    const T c10 = cross_term(f02, f21, f01, f22), c11 = cross_term(f00, f22, f02, f20);
-    const T c12 = cross_term(f01, f20, f00, f21);
-    const T c20 = cross_term(f01, f12, f02, f11), c21 = cross_term(f02, f10, f00, f12);
-    const T c22 = cross_term(f00, f11, f01, f10);
-    const T n0 = nx, n1 = ny, n2 = nz;
-    const T mx = std::fma(c00, n0, std::fma(c01, n1, c02 * n2));
-    const T my = std::fma(c10, n0, std::fma(c11, n1, c12 * n2));
-    const T mz = std::fma(c20, n0, std::fma(c21, n1, c22 * n2));
-    const T len2 = std::fma(mx, mx, std::fma(my, my, mz * mz));
+    const U c10 = cross_term(f02, f21, f01, f22), c11 = cross_term(f00, f22, f02, f20);
+    const U c12 = cross_term(f01, f20, f00, f21);
+    const U c20 = cross_term(f01, f12, f02, f11), c21 = cross_term(f02, f10, f00, f12);
+    const U c22 = cross_term(f00, f11, f01, f10);
+    const U mx = fused(c00, n0, fused(c01, n1, c02 * n2));
+    const U my = fused(c10, n0, fused(c11, n1, c12 * n2));
+    const U mz = fused(c20, n0, fused(c21, n1, c22 * n2));
+    const U len2 = fused(mx, mx, fused(my, my, mz * mz));
     // A degenerate gradient keeps the old normal rather than writing NaN; selects, not a
     // branch, so the loop over a block vectorises.
-    const bool usable = len2 > T(0);
-    const T scale = T(1) / std::sqrt(usable ? len2 : T(1));
-    nx = usable ? static_cast<float>(mx * scale) : nx;
-    ny = usable ? static_cast<float>(my * scale) : ny;
-    nz = usable ? static_cast<float>(mz * scale) : nz;
+    const auto usable = len2 > T(0);
+    const U scale = T(1) / root(usable ? len2 : every<U>(T(1)));
+    n0 = usable ? mx * scale : n0;
+    n1 = usable ? my * scale : n1;
+    n2 = usable ? mz * scale : n2;
+  }
+  return det;
+}
+
+// The same at block point k, for the block passes: the normal is read and written as floats.
+template <typename T, bool kCarry>
+inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, float& nx, float& ny, float& nz) {
+  const T g[3][3] = {{gb.g[0][0][k], gb.g[0][1][k], gb.g[0][2][k]},
+                     {gb.g[1][0][k], gb.g[1][1][k], gb.g[1][2][k]},
+                     {gb.g[2][0][k], gb.g[2][1][k], gb.g[2][2][k]}};
+  T n0 = nx, n1 = ny, n2 = nz;
+  const T det = jacobian_and_normal<T, kCarry>(g, n0, n1, n2);
+  if constexpr (kCarry) {
+    nx = static_cast<float>(n0);
+    ny = static_cast<float>(n1);
+    nz = static_cast<float>(n2);
   }
   return det;
 }
@@ -255,6 +330,81 @@ void finish_block(const GradientBlock<T>& gb, const Block<T>& b, std::size_t n, 
     const T u2 = b.ux[k] * b.ux[k] + b.uy[k] * b.uy[k] + b.uz[k] * b.uz[k];
     lane_max_squared[k] = u2 > lane_max_squared[k] ? u2 : lane_max_squared[k];
   }
+}
+
+// The exact pass a register of points at a time: the twelve sums (displacement and gradient)
+// stay in registers across the sources, and the Jacobian, the carried normal and the new
+// position follow in the same registers. Lane by lane these are add_source's and
+// finish_block's operations in the same order, so every value is bit for bit what the block
+// passes give (the batch and bounded passes still use those); what goes is the twelve loads
+// and stores per point and source that the block arrays cost (75 % of a global frame).
+// Updates the lanes of lane_min_det and lane_max_squared from `lane` on, and ORs into `bad`
+// the lanes whose Jacobian, new position or new normal is not finite.
+template <typename T, bool kCarry>
+void move_lanes(const SourceTable<T>& t, float* x, float* y, float* z, float* nx, float* ny, float* nz, T* lane_min_det,
+                T* lane_max_squared, typename lanes::LaneTypes<T>::Bits& bad) {
+  using V = lanes::Value<T>;
+  const V qx = lanes::load<T>(x), qy = lanes::load<T>(y), qz = lanes::load<T>(z);
+  // Every source's reciprocal distance first: independent square roots and divisions overlap,
+  // where one chain per source left the core waiting on each.
+  V reciprocal[kMaxSources];
+  for (std::size_t s = 0; s < t.count; ++s) {
+    const V rx = qx - t.px[s], ry = qy - t.py[s], rz = qz - t.pz[s];
+    reciprocal[s] = T(1) / lanes::sqrt(rx * rx + ry * ry + rz * rz + t.eps2);
+  }
+  V u[3] = {};
+  V g[3][3] = {};
+  for (std::size_t s = 0; s < t.count; ++s) {
+    add_share<T, true>(t, s, qx - t.px[s], qy - t.py[s], qz - t.pz[s], reciprocal[s], u, g);
+  }
+  const V ux = u[0], uy = u[1], uz = u[2];
+  V n0{}, n1{}, n2{};
+  if constexpr (kCarry) {
+    n0 = lanes::load<T>(nx);
+    n1 = lanes::load<T>(ny);
+    n2 = lanes::load<T>(nz);
+  }
+  const V det = jacobian_and_normal<T, kCarry>(g, n0, n1, n2);
+  if constexpr (kCarry) {
+    bad |= lanes::non_finite<T>(lanes::store<T>(nx, n0)) | lanes::non_finite<T>(lanes::store<T>(ny, n1)) |
+           lanes::non_finite<T>(lanes::store<T>(nz, n2));
+  }
+  const V min_det = lanes::load_values(lane_min_det);
+  lanes::store_values(lane_min_det, det < min_det ? det : min_det);
+  bad |= lanes::non_finite<T>(det) | lanes::non_finite<T>(lanes::store<T>(x, qx + ux)) |
+         lanes::non_finite<T>(lanes::store<T>(y, qy + uy)) | lanes::non_finite<T>(lanes::store<T>(z, qz + uz));
+  const V u2 = ux * ux + uy * uy + uz * uz;
+  const V max_squared = lanes::load_values(lane_max_squared);
+  lanes::store_values(lane_max_squared, u2 > max_squared ? u2 : max_squared);
+}
+
+// The exact pass over a block's n points (move_lanes). A last partial register works on a copy
+// padded with its last point, whose extremes are that point's own, so they change nothing.
+// Returns non-zero when a Jacobian, a new position or a new normal was not finite.
+template <typename T, bool kCarry>
+std::uint32_t move_block_exact(const SourceTable<T>& t, std::size_t n, float* x, float* y, float* z, float* nx,
+                               float* ny, float* nz, T* lane_min_det, T* lane_max_squared) {
+  constexpr std::size_t kWidth = lanes::kCount<T>;
+  typename lanes::LaneTypes<T>::Bits bad{};
+  std::size_t k = 0;
+  for (; k + kWidth <= n; k += kWidth) {
+    move_lanes<T, kCarry>(t, x + k, y + k, z + k, kCarry ? nx + k : nullptr, kCarry ? ny + k : nullptr,
+                          kCarry ? nz + k : nullptr, lane_min_det + k, lane_max_squared + k, bad);
+  }
+  if (k < n) {
+    alignas(64) float copy[6][kWidth];
+    float* const from[6] = {x, y, z, nx, ny, nz};
+    const int arrays = kCarry ? 6 : 3;
+    for (int a = 0; a < arrays; ++a) {
+      for (std::size_t j = 0; j < kWidth; ++j) copy[a][j] = from[a][std::min(k + j, n - 1)];
+    }
+    move_lanes<T, kCarry>(t, copy[0], copy[1], copy[2], copy[3], copy[4], copy[5], lane_min_det + k,
+                          lane_max_squared + k, bad);
+    for (int a = 0; a < arrays; ++a) std::copy_n(copy[a], n - k, from[a] + k);
+  }
+  std::uint32_t any = 0;
+  for (std::size_t j = 0; j < kWidth; ++j) any |= static_cast<std::uint32_t>(bad[j] != 0);
+  return any;
 }
 
 // Non-zero when any of the n values is infinite or NaN (all exponent bits set). Integer OR
@@ -691,6 +841,7 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     // A bounded block over the tolerance first sums each point's bound with its displacement;
     // unless most of its points need their gradient, those few are batched and the block moves.
     bool exact = !skip_block;
+    bool checked = false;  // the fused exact pass checks what it writes in registers
     if constexpr (kBounded) {
       if (!skip_block) {
         add_sources<T, false, true>(t, b, gb);
@@ -709,13 +860,18 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
       skips.max_skipped_bound = std::max(skips.max_skipped_bound, bound);
       const double floor = 1.0 - bound;
       skips.min_det_floor = std::min(skips.min_det_floor, floor * floor * floor);
+    } else if (exact && kGradient && !t.fast_inverse_sqrt) {
+      bad |= move_block_exact<T, kCarry>(t, n, x, y, z, nx, ny, nz, lane_min_det, lane_max_squared);
+      checked = true;
     } else if (exact) {
       add_sources<T, kGradient>(t, b, gb);
       finish_block<T, kGradient, kCarry>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
       if constexpr (kGradient) bad |= non_finite_bits(dets, n);
     }
-    if (normals_here) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
-    bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
+    if (!checked) {
+      if (normals_here) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
+      bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
+    }
     if constexpr (!kContiguous) {
       copy_indexed<false>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
       if (normals_here) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);

@@ -1,0 +1,120 @@
+#pragma once
+// One register of lanes (GCC vector values: 16 floats or 8 doubles with AVX-512, half that
+// with AVX, a quarter with SSE), for loops that keep their running sums in registers across an inner loop
+// the auto-vectoriser would not keep there. Every lane operation is the scalar IEEE operation
+// lane by lane (std::fma and std::sqrt, correctly rounded), so a lane computes exactly what the
+// scalar code computes; GCC turns each lane loop below into one vector instruction.
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+namespace sculpt::deform::lanes {
+
+// The target's widest register: a wider GCC vector would be split into several anyway, and
+// passing it by value would use an ABI GCC warns about (-Wpsabi).
+#if defined(__AVX512F__)
+inline constexpr std::size_t kBytes = 64;
+#elif defined(__AVX__)
+inline constexpr std::size_t kBytes = 32;
+#else
+inline constexpr std::size_t kBytes = 16;
+#endif
+
+template <typename T>
+struct LaneTypes;
+
+template <>
+struct LaneTypes<float> {
+  static constexpr std::size_t kCount = kBytes / sizeof(float);
+  using Value = float __attribute__((vector_size(kBytes)));
+  using Floats = Value;                                            // the same lanes as stored floats
+  using Bits = std::int32_t __attribute__((vector_size(kBytes)));  // a comparison's result
+};
+
+template <>
+struct LaneTypes<double> {
+  static constexpr std::size_t kCount = kBytes / sizeof(double);
+  using Value = double __attribute__((vector_size(kBytes)));
+  using Floats = float __attribute__((vector_size(kBytes / 2)));
+  using Bits = std::int64_t __attribute__((vector_size(kBytes)));
+};
+
+template <typename T>
+inline constexpr std::size_t kCount = LaneTypes<T>::kCount;
+template <typename T>
+using Value = typename LaneTypes<T>::Value;
+
+// kCount<T> floats from p (any alignment), in T.
+template <typename T>
+inline Value<T> load(const float* p) noexcept {
+  typename LaneTypes<T>::Floats f;
+  std::memcpy(&f, p, sizeof f);
+  if constexpr (std::is_same_v<T, float>) {
+    return f;
+  } else {
+    return __builtin_convertvector(f, Value<T>);
+  }
+}
+
+// Stores the lanes rounded to float (exact for T = float); returns what was stored, in T (a
+// double too large for a float comes back infinite).
+template <typename T>
+inline Value<T> store(float* p, Value<T> v) noexcept {
+  if constexpr (std::is_same_v<T, float>) {
+    std::memcpy(p, &v, sizeof v);
+    return v;
+  } else {
+    const auto f = __builtin_convertvector(v, typename LaneTypes<T>::Floats);
+    std::memcpy(p, &f, sizeof f);
+    return __builtin_convertvector(f, Value<T>);
+  }
+}
+
+template <typename T>
+inline Value<T> load_values(const T* p) noexcept {
+  Value<T> v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+template <typename T>
+inline void store_values(T* p, Value<T> v) noexcept {
+  std::memcpy(p, &v, sizeof v);
+}
+
+// Every lane c: c - 0 is c exactly (a signed zero and NaN included), and compiles to one
+// broadcast; a loop over the lanes compiled to sixteen masked ones.
+template <typename V, typename T>
+inline V splat(T c) noexcept {
+  return c - V{};
+}
+
+template <typename V>
+inline V fma(V a, V b, V c) noexcept {
+  V r;
+  for (std::size_t j = 0; j < sizeof(V) / sizeof(a[0]); ++j) r[j] = std::fma(a[j], b[j], c[j]);
+  return r;
+}
+
+template <typename V>
+inline V sqrt(V a) noexcept {
+  V r;
+  for (std::size_t j = 0; j < sizeof(V) / sizeof(a[0]); ++j) r[j] = std::sqrt(a[j]);
+  return r;
+}
+
+// Lanes all of whose exponent bits are set (infinite or NaN): all ones there, zero elsewhere.
+template <typename T>
+inline typename LaneTypes<T>::Bits non_finite(Value<T> v) noexcept {
+  using Bits = typename LaneTypes<T>::Bits;
+  constexpr auto kExponent = static_cast<std::conditional_t<sizeof(T) == 4, std::int32_t, std::int64_t>>(
+      sizeof(T) == 4 ? 0x7f800000ll : 0x7ff0000000000000ll);
+  Bits bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  return (bits & kExponent) == kExponent;
+}
+
+}  // namespace sculpt::deform::lanes
