@@ -340,11 +340,19 @@ void finish_block(const GradientBlock<T>& gb, const Block<T>& b, std::size_t n, 
 // and stores per point and source that the block arrays cost (75 % of a global frame).
 // Updates the lanes of lane_min_det and lane_max_squared from `lane` on, and ORs into `bad`
 // the lanes whose Jacobian, new position or new normal is not finite.
+// A point's six attributes: positions, and normals when the pass carries them.
+struct PointArrays {
+  float *x, *y, *z, *nx, *ny, *nz;
+  PointArrays at(std::size_t k) const {
+    return {x + k, y + k, z + k, nx ? nx + k : nullptr, ny ? ny + k : nullptr, nz ? nz + k : nullptr};
+  }
+};
+
 template <typename T, bool kCarry>
-void move_lanes(const SourceTable<T>& t, float* x, float* y, float* z, float* nx, float* ny, float* nz, T* lane_min_det,
+void move_lanes(const SourceTable<T>& t, const PointArrays& from, const PointArrays& to, T* lane_min_det,
                 T* lane_max_squared, typename lanes::LaneTypes<T>::Bits& bad) {
   using V = lanes::Value<T>;
-  const V qx = lanes::load<T>(x), qy = lanes::load<T>(y), qz = lanes::load<T>(z);
+  const V qx = lanes::load<T>(from.x), qy = lanes::load<T>(from.y), qz = lanes::load<T>(from.z);
   // Every source's reciprocal distance first: independent square roots and divisions overlap,
   // where one chain per source left the core waiting on each.
   V reciprocal[kMaxSources];
@@ -360,47 +368,48 @@ void move_lanes(const SourceTable<T>& t, float* x, float* y, float* z, float* nx
   const V ux = u[0], uy = u[1], uz = u[2];
   V n0{}, n1{}, n2{};
   if constexpr (kCarry) {
-    n0 = lanes::load<T>(nx);
-    n1 = lanes::load<T>(ny);
-    n2 = lanes::load<T>(nz);
+    n0 = lanes::load<T>(from.nx);
+    n1 = lanes::load<T>(from.ny);
+    n2 = lanes::load<T>(from.nz);
   }
   const V det = jacobian_and_normal<T, kCarry>(g, n0, n1, n2);
   if constexpr (kCarry) {
-    bad |= lanes::non_finite<T>(lanes::store<T>(nx, n0)) | lanes::non_finite<T>(lanes::store<T>(ny, n1)) |
-           lanes::non_finite<T>(lanes::store<T>(nz, n2));
+    bad |= lanes::non_finite<T>(lanes::store<T>(to.nx, n0)) | lanes::non_finite<T>(lanes::store<T>(to.ny, n1)) |
+           lanes::non_finite<T>(lanes::store<T>(to.nz, n2));
   }
   const V min_det = lanes::load_values(lane_min_det);
   lanes::store_values(lane_min_det, det < min_det ? det : min_det);
-  bad |= lanes::non_finite<T>(det) | lanes::non_finite<T>(lanes::store<T>(x, qx + ux)) |
-         lanes::non_finite<T>(lanes::store<T>(y, qy + uy)) | lanes::non_finite<T>(lanes::store<T>(z, qz + uz));
+  bad |= lanes::non_finite<T>(det) | lanes::non_finite<T>(lanes::store<T>(to.x, qx + ux)) |
+         lanes::non_finite<T>(lanes::store<T>(to.y, qy + uy)) | lanes::non_finite<T>(lanes::store<T>(to.z, qz + uz));
   const V u2 = ux * ux + uy * uy + uz * uz;
   const V max_squared = lanes::load_values(lane_max_squared);
   lanes::store_values(lane_max_squared, u2 > max_squared ? u2 : max_squared);
 }
 
-// The exact pass over a block's n points (move_lanes). A last partial register works on a copy
-// padded with its last point, whose extremes are that point's own, so they change nothing.
-// Returns non-zero when a Jacobian, a new position or a new normal was not finite.
+// The exact pass over a block's n points (move_lanes), from one set of arrays to another (or the
+// same: in place). A last partial register works on a copy padded with its last point, whose
+// extremes are that point's own, so they change nothing. Returns non-zero when a Jacobian, a new
+// position or a new normal was not finite.
 template <typename T, bool kCarry>
-std::uint32_t move_block_exact(const SourceTable<T>& t, std::size_t n, float* x, float* y, float* z, float* nx,
-                               float* ny, float* nz, T* lane_min_det, T* lane_max_squared) {
+std::uint32_t move_block_exact(const SourceTable<T>& t, std::size_t n, const PointArrays& from, const PointArrays& to,
+                               T* lane_min_det, T* lane_max_squared) {
   constexpr std::size_t kWidth = lanes::kCount<T>;
   typename lanes::LaneTypes<T>::Bits bad{};
   std::size_t k = 0;
   for (; k + kWidth <= n; k += kWidth) {
-    move_lanes<T, kCarry>(t, x + k, y + k, z + k, kCarry ? nx + k : nullptr, kCarry ? ny + k : nullptr,
-                          kCarry ? nz + k : nullptr, lane_min_det + k, lane_max_squared + k, bad);
+    move_lanes<T, kCarry>(t, from.at(k), to.at(k), lane_min_det + k, lane_max_squared + k, bad);
   }
   if (k < n) {
     alignas(64) float copy[6][kWidth];
-    float* const from[6] = {x, y, z, nx, ny, nz};
+    float* const in[6] = {from.x, from.y, from.z, from.nx, from.ny, from.nz};
+    float* const out[6] = {to.x, to.y, to.z, to.nx, to.ny, to.nz};
     const int arrays = kCarry ? 6 : 3;
     for (int a = 0; a < arrays; ++a) {
-      for (std::size_t j = 0; j < kWidth; ++j) copy[a][j] = from[a][std::min(k + j, n - 1)];
+      for (std::size_t j = 0; j < kWidth; ++j) copy[a][j] = in[a][std::min(k + j, n - 1)];
     }
-    move_lanes<T, kCarry>(t, copy[0], copy[1], copy[2], copy[3], copy[4], copy[5], lane_min_det + k,
-                          lane_max_squared + k, bad);
-    for (int a = 0; a < arrays; ++a) std::copy_n(copy[a], n - k, from[a] + k);
+    const PointArrays padded{copy[0], copy[1], copy[2], copy[3], copy[4], copy[5]};
+    move_lanes<T, kCarry>(t, padded, padded, lane_min_det + k, lane_max_squared + k, bad);
+    for (int a = 0; a < arrays; ++a) std::copy_n(copy[a], n - k, out[a] + k);
   }
   std::uint32_t any = 0;
   for (std::size_t j = 0; j < kWidth; ++j) any |= static_cast<std::uint32_t>(bad[j] != 0);
@@ -673,6 +682,36 @@ struct JournalWriter {
     j.recorded_normals_ = j.normals_ && normals;
     j.count_ = count <= j.index_.size() ? count : 0;  // more cannot happen with the reservation asked for
   }
+  // Whether a global pass may write its new values into the journal's arrays and then trade
+  // them for the model's (write_aside()): the journal holds a whole model's worth.
+  bool can_write_aside(const PointModel& model, bool normals) const noexcept {
+    return j.x_.size() == model.size() && (!normals || (j.normals_ && j.nx_.size() == model.size()));
+  }
+  // Where a pass writing aside puts point `at`'s new values.
+  PointArrays aside(std::size_t at, bool normals) const noexcept {
+    return {j.x_.data() + at,
+            j.y_.data() + at,
+            j.z_.data() + at,
+            normals ? j.nx_.data() + at : nullptr,
+            normals ? j.ny_.data() + at : nullptr,
+            normals ? j.nz_.data() + at : nullptr};
+  }
+  // After a pass that wrote aside: the model takes the new values and the journal keeps the
+  // model's old arrays, which are the old values of every point, as record() would have left them.
+  void write_aside(PointModel& model, bool normals) const noexcept {
+    model.x.swap(j.x_);
+    model.y.swap(j.y_);
+    model.z.swap(j.z_);
+    if (normals) {
+      model.nx.swap(j.nx_);
+      model.ny.swap(j.ny_);
+      model.nz.swap(j.nz_);
+      std::fill(j.block_normals_.begin(), j.block_normals_.end(), std::uint8_t{1});
+    }
+    j.contiguous_ = true;
+    j.recorded_normals_ = normals;
+    j.count_ = model.size();
+  }
   template <bool kContiguous, typename IndexOf>
   void record(IndexOf index_of, std::size_t begin, std::size_t n, const float* x, const float* y, const float* z,
               const float* nx, const float* ny, const float* nz) const noexcept {
@@ -775,9 +814,12 @@ struct PassExtremes {
 // Covers the pass's points first .. last - 1 (first a multiple of kBlock).
 // With kBounded, the gradient is computed only where its bound exceeds the table's skip_bound
 // (bounded_gradient).
+// With `aside` (a fused global pass, apply_typed decides), the new values go to the journal's
+// arrays instead of over the old ones, and nothing is copied into the journal: the caller then
+// trades the arrays (JournalWriter::write_aside).
 template <typename T, bool kGradient, bool kCarry, bool kContiguous, bool kBounded, typename IndexOf>
 PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::size_t first, std::size_t last,
-                            IndexOf index_of, UndoJournal* journal) noexcept {
+                            IndexOf index_of, UndoJournal* journal, bool aside) noexcept {
   static_assert(kGradient || !kCarry, "carrying normals needs the gradient");
   static_assert(kGradient || !kBounded, "only a gradient can be bounded");
   SkipStats skips;
@@ -831,7 +873,7 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
         copy_indexed<true>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
       }
     }
-    if (journal) {
+    if (journal && !aside) {
       JournalWriter{*journal}.record<kContiguous>(index_of, begin, n, x, y, z, nx, ny, nz);
     }
     b.size = n;
@@ -861,7 +903,9 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
       const double floor = 1.0 - bound;
       skips.min_det_floor = std::min(skips.min_det_floor, floor * floor * floor);
     } else if (exact && kGradient && !t.fast_inverse_sqrt) {
-      bad |= move_block_exact<T, kCarry>(t, n, x, y, z, nx, ny, nz, lane_min_det, lane_max_squared);
+      const PointArrays in_place{x, y, z, nx, ny, nz};
+      const PointArrays to = aside ? JournalWriter{*journal}.aside(begin, kCarry) : in_place;
+      bad |= move_block_exact<T, kCarry>(t, n, in_place, to, lane_min_det, lane_max_squared);
       checked = true;
     } else if (exact) {
       add_sources<T, kGradient>(t, b, gb);
@@ -879,7 +923,7 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
   }
   if constexpr (kBounded) batch.flush(t, gb, lane_min_det, bad);
   if constexpr (kContiguous) {
-    if (journal) finish_streaming();
+    if (journal && !aside) finish_streaming();
   }
   PassExtremes<T> e;
   e.bad = bad;
@@ -901,24 +945,30 @@ template <typename T, bool kGradient, bool kCarry, bool kContiguous, bool kBound
 FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
                         UndoJournal* journal, FieldWorker* worker) {
   if (journal) JournalWriter{*journal}.begin_pass(kContiguous, kCarry, count);
+  // A fused global pass writes its new values beside the old ones, in the journal's arrays, and
+  // the two sets change places at the end: the journal then holds the old values without a copy
+  // (a third of a global frame's memory traffic).
+  const bool aside = kContiguous && kGradient && !kBounded && !t.fast_inverse_sqrt && journal &&
+                     JournalWriter{*journal}.can_write_aside(model, kCarry);
   PassExtremes<T> e;
   if (!worker || count < kMinSplitPoints) {
-    e = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(model, t, 0, count, index_of, journal);
+    e = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(model, t, 0, count, index_of, journal, aside);
   } else {
     struct Halves {
       PointModel& model;
       const SourceTable<T>& table;
       IndexOf index_of;
       UndoJournal* journal;
+      bool aside;
       std::size_t split, count;
       PassExtremes<T> part[2];
-    } halves{model, t, index_of, journal, (count / 2 + kBlock - 1) / kBlock * kBlock, count, {}};
+    } halves{model, t, index_of, journal, aside, (count / 2 + kBlock - 1) / kBlock * kBlock, count, {}};
     worker->run_both(
         [](void* context, int part) noexcept {
           Halves& h = *static_cast<Halves*>(context);
           const std::size_t first = part == 0 ? 0 : h.split, last = part == 0 ? h.split : h.count;
           h.part[part] = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(h.model, h.table, first, last,
-                                                                                  h.index_of, h.journal);
+                                                                                  h.index_of, h.journal, h.aside);
         },
         &halves);
     e.max_squared = std::max(halves.part[0].max_squared, halves.part[1].max_squared);
@@ -929,6 +979,7 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
         std::max(halves.part[0].skips.max_skipped_bound, halves.part[1].skips.max_skipped_bound);
     e.skips.min_det_floor = std::min(halves.part[0].skips.min_det_floor, halves.part[1].skips.min_det_floor);
   }
+  if (aside) JournalWriter{*journal}.write_aside(model, kCarry);
   FieldResult result;
   result.finite = e.bad == 0 && std::isfinite(static_cast<double>(e.max_squared));
   result.max_displacement = std::sqrt(static_cast<double>(e.max_squared));

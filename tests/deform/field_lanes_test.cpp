@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sculpt/deform/displacement_field.hpp"
+#include "sculpt/deform/field_worker.hpp"
 #include "sculpt/deform/generators.hpp"
 
 namespace sculpt::deform {
@@ -126,6 +127,49 @@ TEST(FieldLanes, ANonFiniteResultInAnyLaneIsReported) {
         const FieldResult r = apply_displacements(m, kKernel, {&on_the_point, 1}, {}, true, options, true);
         EXPECT_FALSE(r.finite) << "points " << n << ", at " << at;
       }
+    }
+  }
+}
+
+bool same_bytes(const PointModel& a, const PointModel& b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z && a.nx == b.nx && a.ny == b.ny && a.nz == b.nz;
+}
+
+// A global pass with a journal as large as the model writes its new values into the journal's
+// arrays and trades them for the model's; with a smaller journal, or none, it writes in place.
+// All three must leave the same bytes, and the journal must undo its pass exactly, normals
+// carried or not, on one thread or two.
+TEST(FieldLanes, AGlobalPassWritingBesideTheModelIsThePassInPlaceAndItsJournalUndoesIt) {
+  const std::vector<SourceForce> sources = three_sources();
+  for (bool carry : {true, false}) {
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE(::testing::Message() << (carry ? "normals carried" : "positions only") << ", threads " << threads);
+      const PointModel before = make_sphere(40000);
+      FieldOptions options;
+      options.carry_normals = carry;
+      FieldWorker worker;
+      FieldWorker* split = threads == 2 ? &worker : nullptr;
+
+      PointModel in_place = before;
+      apply_displacements(in_place, kKernel, sources, {}, true, options, true, nullptr, split);
+      ASSERT_FALSE(same_bytes(in_place, before));
+
+      PointModel small_journal = before;
+      UndoJournal partial;
+      partial.reserve(before.size() + 1, true);  // not the model's size: records by copying
+      apply_displacements(small_journal, kKernel, sources, {}, true, options, true, &partial, split);
+      EXPECT_TRUE(same_bytes(small_journal, in_place));
+
+      PointModel aside = before;
+      UndoJournal whole;
+      whole.reserve(before.size(), true);
+      const FieldResult r = apply_displacements(aside, kKernel, sources, {}, true, options, true, &whole, split);
+      ASSERT_TRUE(r.finite);
+      EXPECT_TRUE(same_bytes(aside, in_place));
+      whole.restore(aside);
+      EXPECT_TRUE(same_bytes(aside, before));
+      partial.restore(small_journal);
+      EXPECT_TRUE(same_bytes(small_journal, before));
     }
   }
 }
