@@ -89,8 +89,8 @@ struct GradientBlock {
 // bit for bit what it was); the gradient, which only feeds the normals and the fold guard,
 // is rearranged as g += a r^T + b f^T + (h r.f) I with
 //   a = g'(r)/r f + h'(r)/r (r.f) r,  b = h r,  h = gamma/r^3,
-// and fused multiply-adds (one rounding each, exact IEEE operations; the build's ISO mode does
-// not contract a*b+c on its own).
+// and fused multiply-adds (one rounding each, exact IEEE operations; the library is built with
+// -ffp-contract=off, so the compiler fuses nothing else).
 // With `kBound` (and no gradient), the block's `bound` sums each source's bound on ||grad u||_2
 // instead, from the same reciprocal: three more operations where the gradient costs thirty.
 // With `kEstimate` (FieldOptions::fast_inverse_sqrt), 1/r comes from inverse_sqrt_estimate() over
@@ -134,7 +134,7 @@ template <typename U>
 
 // c in every lane (U is a scalar or lanes of T).
 template <typename U, typename T>
-inline U every(T c) {
+[[gnu::always_inline]] inline U every(T c) {
   if constexpr (std::is_floating_point_v<U>) {
     return c;
   } else {
@@ -143,12 +143,24 @@ inline U every(T c) {
 }
 
 template <typename U>
-inline U root(U a) {
+[[gnu::always_inline]] inline U root(U a) {
   if constexpr (std::is_floating_point_v<U>) {
     return std::sqrt(a);
   } else {
     return lanes::sqrt(a);
   }
+}
+
+// |r|^2 + eps^2 and a dot product, with the fused multiply-adds written out (the library does
+// not let the compiler contract): every pass computes them here, so all give the same bits.
+template <typename U, typename T>
+[[gnu::always_inline]] inline U squared_distance(U rx, U ry, U rz, T eps2) {
+  return fused(rz, rz, fused(ry, ry, rx * rx)) + eps2;
+}
+
+template <typename U, typename V>
+[[gnu::always_inline]] inline U dot(U ax, U ay, U az, V bx, V by, V bz) {
+  return fused(az, every<U>(bz), fused(ay, every<U>(by), ax * bx));
 }
 
 // One source's share at one point or at a register of points (U is T or its lanes), from
@@ -161,13 +173,13 @@ template <typename T, bool kGradient, typename U>
   const U fx = every<U>(t.fx[s]), fy = every<U>(t.fy[s]), fz = every<U>(t.fz[s]);
   const U inv2 = inv * inv;
   const U inv3 = inv2 * inv;
-  const U rf = rx * fx + ry * fy + rz * fz;
-  const U diag = t.alpha * inv + t.beta * inv3;
+  const U rf = dot(rx, ry, rz, fx, fy, fz);
+  const U diag = fused(every<U>(t.beta), inv3, t.alpha * inv);
   const U h = t.gamma * inv3;
   const U radial = h * rf;
-  u[0] = u[0] + (diag * fx + radial * rx);
-  u[1] = u[1] + (diag * fy + radial * ry);
-  u[2] = u[2] + (diag * fz + radial * rz);
+  u[0] = u[0] + fused(radial, rx, diag * fx);
+  u[1] = u[1] + fused(radial, ry, diag * fy);
+  u[2] = u[2] + fused(radial, rz, diag * fz);
   if constexpr (kGradient) {
     const U inv5 = inv3 * inv2;
     const U g_prime = fused(every<U>(-(T(3) * t.beta)), inv5, -t.alpha * inv3);
@@ -217,7 +229,7 @@ void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlo
   if constexpr (kEstimate) {
     for (std::size_t k = 0; k < n; ++k) {
       const T rx = T(qx[k]) - px, ry = T(qy[k]) - py, rz = T(qz[k]) - pz;
-      estimate[k] = rx * rx + ry * ry + rz * rz + eps2;
+      estimate[k] = squared_distance(rx, ry, rz, eps2);
     }
     inverse_sqrt_estimate(estimate, n);
   }
@@ -228,7 +240,7 @@ void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlo
     if constexpr (kEstimate) {
       inv = estimate[k];
     } else {
-      inv = T(1) / std::sqrt(rx * rx + ry * ry + rz * rz + eps2);
+      inv = T(1) / std::sqrt(squared_distance(rx, ry, rz, eps2));
     }
     T u[3] = {sum(b.ux, k), sum(b.uy, k), sum(b.uz, k)};
     T g[3][3] = {};
@@ -243,7 +255,7 @@ void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlo
     b.uz[k] = u[2];
     if constexpr (kBound) {
       const T inv2 = inv * inv;
-      b.bound[k] = sum(b.bound, k) + (bound_r2 + bound_r4 * inv2) * inv2;
+      b.bound[k] = sum(b.bound, k) + std::fma(bound_r4, inv2, bound_r2) * inv2;
     }
     if constexpr (kGradient) {
       for (int l = 0; l < 3; ++l) {
@@ -259,7 +271,7 @@ void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlo
 // frame folded (det <= 0) no normal formula is meaningful, and the fold guard rejects the frame
 // before anyone reads that normal.
 template <typename T, bool kCarry, typename U>
-inline U jacobian_and_normal(const U (&g)[3][3], U& n0, U& n1, U& n2) {
+[[gnu::always_inline]] inline U jacobian_and_normal(const U (&g)[3][3], U& n0, U& n1, U& n2) {
   const U f00 = T(1) + g[0][0], f01 = g[0][1], f02 = g[0][2];
   const U f10 = g[1][0], f11 = T(1) + g[1][1], f12 = g[1][2];
   const U f20 = g[2][0], f21 = g[2][1], f22 = T(1) + g[2][2];
@@ -327,19 +339,40 @@ void finish_block(const GradientBlock<T>& gb, const Block<T>& b, std::size_t n, 
     x[k] = static_cast<float>(T(x[k]) + b.ux[k]);
     y[k] = static_cast<float>(T(y[k]) + b.uy[k]);
     z[k] = static_cast<float>(T(z[k]) + b.uz[k]);
-    const T u2 = b.ux[k] * b.ux[k] + b.uy[k] * b.uy[k] + b.uz[k] * b.uz[k];
+    const T u2 = dot(b.ux[k], b.uy[k], b.uz[k], b.ux[k], b.uy[k], b.uz[k]);
     lane_max_squared[k] = u2 > lane_max_squared[k] ? u2 : lane_max_squared[k];
   }
 }
 
-// The exact pass a register of points at a time: the twelve sums (displacement and gradient)
-// stay in registers across the sources, and the Jacobian, the carried normal and the new
-// position follow in the same registers. Lane by lane these are add_source's and
-// finish_block's operations in the same order, so every value is bit for bit what the block
-// passes give (the batch and bounded passes still use those); what goes is the twelve loads
-// and stores per point and source that the block arrays cost (75 % of a global frame).
-// Updates the lanes of lane_min_det and lane_max_squared from `lane` on, and ORs into `bad`
-// the lanes whose Jacobian, new position or new normal is not finite.
+struct SkipStats {
+  std::size_t skipped = 0;
+  double max_skipped_bound = 0.0;
+  double min_det_floor = 1.0;
+};
+
+// The extremes of a bounded pass's skipped points, kept per block lane (a scalar running max does
+// not vectorise) and reduced once at the end.
+template <typename T>
+struct SkipLanes {
+  alignas(64) T max_bound[kBlock];
+  alignas(64) T min_det_floor[kBlock];
+  alignas(64) std::uint32_t skipped[kBlock];
+  SkipLanes() {
+    for (std::size_t k = 0; k < kBlock; ++k) {
+      max_bound[k] = T(0);
+      min_det_floor[k] = T(1);
+      skipped[k] = 0;
+    }
+  }
+  void add_to(SkipStats& s) const {
+    for (std::size_t k = 0; k < kBlock; ++k) {
+      s.skipped += skipped[k];
+      s.max_skipped_bound = std::max(s.max_skipped_bound, static_cast<double>(max_bound[k]));
+      s.min_det_floor = std::min(s.min_det_floor, static_cast<double>(min_det_floor[k]));
+    }
+  }
+};
+
 // A point's six attributes: positions, and normals when the pass carries them.
 struct PointArrays {
   float *x, *y, *z, *nx, *ny, *nz;
@@ -348,24 +381,191 @@ struct PointArrays {
   }
 };
 
-template <typename T, bool kCarry>
-void move_lanes(const SourceTable<T>& t, const PointArrays& from, const PointArrays& to, T* lane_min_det,
-                T* lane_max_squared, typename lanes::LaneTypes<T>::Bits& bad) {
-  using V = lanes::Value<T>;
-  const V qx = lanes::load<T>(from.x), qy = lanes::load<T>(from.y), qz = lanes::load<T>(from.z);
-  // Every source's reciprocal distance first: independent square roots and divisions overlap,
-  // where one chain per source left the core waiting on each.
-  V reciprocal[kMaxSources];
+// The running extremes of a pass, per block lane: move_lanes updates the lanes of its register.
+template <typename T>
+struct LaneExtremes {
+  T* min_det;
+  T* max_squared;
+  SkipLanes<T>* skip;  // a bounded pass's skipped points
+  LaneExtremes at(std::size_t k) const { return {min_det + k, max_squared + k, skip}; }
+};
+
+template <typename T>
+using Lanes = lanes::Value<T>;
+template <typename T>
+using LaneBits = typename lanes::LaneTypes<T>::Bits;
+
+// Every source's 1/r at a register of points, first: the square roots and divisions of the
+// sources are independent and overlap, where one chain per source left the core waiting.
+template <typename T>
+[[gnu::always_inline]] inline void reciprocal_distances(const SourceTable<T>& t, const Lanes<T>& qx, const Lanes<T>& qy,
+                                                        const Lanes<T>& qz, Lanes<T> (&reciprocal)[kMaxSources]) {
   for (std::size_t s = 0; s < t.count; ++s) {
-    const V rx = qx - t.px[s], ry = qy - t.py[s], rz = qz - t.pz[s];
-    reciprocal[s] = T(1) / lanes::sqrt(rx * rx + ry * ry + rz * rz + t.eps2);
+    const Lanes<T> rx = qx - t.px[s], ry = qy - t.py[s], rz = qz - t.pz[s];
+    reciprocal[s] = T(1) / lanes::sqrt(squared_distance(rx, ry, rz, t.eps2));
   }
+}
+
+// The displacement u and gradient g summed over the sources at a register of points (each
+// source's share by add_share(), as in the block passes, so the same bits).
+template <typename T, bool kGradient>
+[[gnu::always_inline]] inline void sum_shares(const SourceTable<T>& t, const Lanes<T>& qx, const Lanes<T>& qy,
+                                              const Lanes<T>& qz, const Lanes<T> (&reciprocal)[kMaxSources],
+                                              Lanes<T> (&u)[3], Lanes<T> (&g)[3][3]) {
+  for (std::size_t s = 0; s < t.count; ++s) {
+    add_share<T, kGradient>(t, s, qx - t.px[s], qy - t.py[s], qz - t.pz[s], reciprocal[s], u, g);
+  }
+}
+
+// The points of a bounded register pass that need their gradient, from registers where most
+// points do not: each one's position before the move and where its normal is read and written
+// (an offset from the `from` and `to` normal arrays: the model's, the journal's when writing
+// aside, or a gathered block's copy). Collected until a register's worth, then computed as one
+// register (in the 100k dragon's five-finger frame 8 % of the points need their gradient, but
+// 30 % of the registers hold one).
+template <typename T, bool kCarry>
+class LaneBatch {
+ public:
+  static constexpr std::size_t kWidth = lanes::kCount<T>;
+
+  void aim(const PointArrays& from, const PointArrays& to) {
+    from_ = from;
+    to_ = to;
+  }
+  std::size_t size() const { return size_; }
+  // Room for a register more is kept by flushing whenever a register's worth is collected.
+  void add(float x, float y, float z, std::uint32_t at) {
+    x_[size_] = x;
+    y_[size_] = y;
+    z_[size_] = z;
+    at_[size_] = at;
+    ++size_;
+  }
+
+  // The first register's worth of points (all of them, padded with the last, when fewer): their
+  // gradient, Jacobian and carried normal.
+  void flush_register(const SourceTable<T>& t, const LaneExtremes<T>& extremes, LaneBits<T>& bad) {
+    if (size_ == 0) return;
+    const std::size_t m = std::min(size_, kWidth);
+    alignas(64) float p[6][kWidth];
+    for (std::size_t j = 0; j < kWidth; ++j) {
+      const std::size_t from = std::min(j, m - 1);
+      p[0][j] = x_[from];
+      p[1][j] = y_[from];
+      p[2][j] = z_[from];
+      if constexpr (kCarry) {
+        p[3][j] = from_.nx[at_[from]];
+        p[4][j] = from_.ny[at_[from]];
+        p[5][j] = from_.nz[at_[from]];
+      }
+    }
+    const Lanes<T> qx = lanes::load<T>(p[0]), qy = lanes::load<T>(p[1]), qz = lanes::load<T>(p[2]);
+    Lanes<T> reciprocal[kMaxSources];
+    reciprocal_distances(t, qx, qy, qz, reciprocal);
+    Lanes<T> u[3] = {}, g[3][3] = {};
+    sum_shares<T, true>(t, qx, qy, qz, reciprocal, u, g);
+    Lanes<T> n0{}, n1{}, n2{};
+    if constexpr (kCarry) {
+      n0 = lanes::load<T>(p[3]);
+      n1 = lanes::load<T>(p[4]);
+      n2 = lanes::load<T>(p[5]);
+    }
+    const Lanes<T> det = jacobian_and_normal<T, kCarry>(g, n0, n1, n2);
+    const Lanes<T> min_det = lanes::load_values(extremes.min_det);
+    lanes::store_values(extremes.min_det, det < min_det ? det : min_det);
+    bad |= lanes::non_finite<T>(det);
+    if constexpr (kCarry) {
+      bad |= lanes::non_finite<T>(lanes::store<T>(p[3], n0)) | lanes::non_finite<T>(lanes::store<T>(p[4], n1)) |
+             lanes::non_finite<T>(lanes::store<T>(p[5], n2));
+      for (std::size_t j = 0; j < m; ++j) {
+        to_.nx[at_[j]] = p[3][j];
+        to_.ny[at_[j]] = p[4][j];
+        to_.nz[at_[j]] = p[5][j];
+      }
+    }
+    size_ -= m;
+    std::copy_n(x_ + m, size_, x_);
+    std::copy_n(y_ + m, size_, y_);
+    std::copy_n(z_ + m, size_, z_);
+    std::copy_n(at_ + m, size_, at_);
+  }
+
+  void flush(const SourceTable<T>& t, const LaneExtremes<T>& extremes, LaneBits<T>& bad) {
+    while (size_ > 0) flush_register(t, extremes, bad);
+  }
+
+ private:
+  PointArrays from_{}, to_{};
+  std::size_t size_ = 0;
+  float x_[2 * kWidth], y_[2 * kWidth], z_[2 * kWidth];
+  std::uint32_t at_[2 * kWidth];
+};
+
+// A pass a register of points at a time: the sums over the sources (displacement, gradient,
+// and with kBounded the bound on ||grad u||) stay in registers, and the Jacobian, the carried
+// normal and the new position follow in the same registers.
+// With kBounded, a register whose every point's bound is at most the table's skip_bound moves
+// with the displacement alone and keeps its normals (counted as skipped, with their bounds); one
+// where at most half the points are over it (or NaN) does the same for the others and hands
+// those to the batch; any other is computed exactly, every point of it.
+// Reads `from`, writes `to` (the same arrays, or the journal's when writing aside); `lane` is
+// this register's first lane of the extremes and `at` the offset of its first normal from the
+// batch's arrays; `valid` of its lanes are points (the rest pad a last register). ORs into
+// `bad` the lanes whose Jacobian, new position or new normal is not finite. Returns how many
+// points kept their normals.
+template <typename T, bool kCarry, bool kBounded>
+std::size_t move_lanes(const SourceTable<T>& t, const PointArrays& from, const PointArrays& to, std::size_t lane,
+                       std::size_t at, std::size_t valid, const LaneExtremes<T>& extremes, LaneBatch<T, kCarry>& batch,
+                       LaneBits<T>& bad) {
+  using V = Lanes<T>;
+  constexpr std::size_t kWidth = lanes::kCount<T>;
+  const V qx = lanes::load<T>(from.x), qy = lanes::load<T>(from.y), qz = lanes::load<T>(from.z);
+  V reciprocal[kMaxSources];
+  reciprocal_distances(t, qx, qy, qz, reciprocal);
+  const auto move_to = [&](const V& ux, const V& uy, const V& uz) {
+    bad |= lanes::non_finite<T>(lanes::store<T>(to.x, qx + ux)) | lanes::non_finite<T>(lanes::store<T>(to.y, qy + uy)) |
+           lanes::non_finite<T>(lanes::store<T>(to.z, qz + uz));
+    const V u2 = dot(ux, uy, uz, ux, uy, uz);
+    const V max_squared = lanes::load_values(extremes.max_squared + lane);
+    lanes::store_values(extremes.max_squared + lane, u2 > max_squared ? u2 : max_squared);
+  };
   V u[3] = {};
   V g[3][3] = {};
-  for (std::size_t s = 0; s < t.count; ++s) {
-    add_share<T, true>(t, s, qx - t.px[s], qy - t.py[s], qz - t.pz[s], reciprocal[s], u, g);
+  if constexpr (kBounded) {
+    V bound{};
+    for (std::size_t s = 0; s < t.count; ++s) {
+      const V inv2 = reciprocal[s] * reciprocal[s];
+      bound = bound + lanes::fma(lanes::splat<V>(t.bound_r4[s]), inv2, lanes::splat<V>(t.bound_r2[s])) * inv2;
+    }
+    const LaneBits<T> within = bound <= t.skip_bound;  // NaN: not within
+    std::size_t over = 0;
+    for (std::size_t j = 0; j < valid; ++j) over += static_cast<std::size_t>(within[j] == 0);
+    if (2 * over <= valid) {
+      for (std::size_t j = 0; j < valid && over > 0; ++j) {
+        if (within[j] == 0) {
+          batch.add(static_cast<float>(qx[j]), static_cast<float>(qy[j]), static_cast<float>(qz[j]),
+                    static_cast<std::uint32_t>(at + j));
+        }
+      }
+      sum_shares<T, false>(t, qx, qy, qz, reciprocal, u, g);
+      move_to(u[0], u[1], u[2]);
+      if (kCarry && to.nx != from.nx) {
+        std::memcpy(to.nx, from.nx, sizeof(float) * kWidth);
+        std::memcpy(to.ny, from.ny, sizeof(float) * kWidth);
+        std::memcpy(to.nz, from.nz, sizeof(float) * kWidth);
+      }
+      SkipLanes<T>& skip = *extremes.skip;
+      const V floor = T(1) - bound;
+      const V det_floor = within ? floor * floor * floor : lanes::splat<V>(T(1));
+      const V kept_bound = within ? bound : V{};
+      const V max_bound = lanes::load_values(skip.max_bound + lane);
+      const V min_floor = lanes::load_values(skip.min_det_floor + lane);
+      lanes::store_values(skip.max_bound + lane, kept_bound > max_bound ? kept_bound : max_bound);
+      lanes::store_values(skip.min_det_floor + lane, det_floor < min_floor ? det_floor : min_floor);
+      return valid - over;
+    }
   }
-  const V ux = u[0], uy = u[1], uz = u[2];
+  sum_shares<T, true>(t, qx, qy, qz, reciprocal, u, g);
   V n0{}, n1{}, n2{};
   if constexpr (kCarry) {
     n0 = lanes::load<T>(from.nx);
@@ -377,27 +577,29 @@ void move_lanes(const SourceTable<T>& t, const PointArrays& from, const PointArr
     bad |= lanes::non_finite<T>(lanes::store<T>(to.nx, n0)) | lanes::non_finite<T>(lanes::store<T>(to.ny, n1)) |
            lanes::non_finite<T>(lanes::store<T>(to.nz, n2));
   }
-  const V min_det = lanes::load_values(lane_min_det);
-  lanes::store_values(lane_min_det, det < min_det ? det : min_det);
-  bad |= lanes::non_finite<T>(det) | lanes::non_finite<T>(lanes::store<T>(to.x, qx + ux)) |
-         lanes::non_finite<T>(lanes::store<T>(to.y, qy + uy)) | lanes::non_finite<T>(lanes::store<T>(to.z, qz + uz));
-  const V u2 = ux * ux + uy * uy + uz * uz;
-  const V max_squared = lanes::load_values(lane_max_squared);
-  lanes::store_values(lane_max_squared, u2 > max_squared ? u2 : max_squared);
+  const V min_det = lanes::load_values(extremes.min_det + lane);
+  lanes::store_values(extremes.min_det + lane, det < min_det ? det : min_det);
+  bad |= lanes::non_finite<T>(det);
+  move_to(u[0], u[1], u[2]);
+  return 0;
 }
 
-// The exact pass over a block's n points (move_lanes), from one set of arrays to another (or the
-// same: in place). A last partial register works on a copy padded with its last point, whose
-// extremes are that point's own, so they change nothing. Returns non-zero when a Jacobian, a new
-// position or a new normal was not finite.
-template <typename T, bool kCarry>
-std::uint32_t move_block_exact(const SourceTable<T>& t, std::size_t n, const PointArrays& from, const PointArrays& to,
-                               T* lane_min_det, T* lane_max_squared) {
+// A block's n points (move_lanes), from one set of arrays to another (or the same: in place).
+// A last partial register works on a copy padded with its last point, whose extremes are that
+// point's own, so they change nothing. `at` is the block's first normal's offset from the
+// batch's arrays; the batch is computed whenever it holds a register's worth (after a padded
+// register is copied back, never before). Returns non-zero when a Jacobian, a new position or a
+// new normal was not finite; adds the points that kept their normals to `skipped`.
+template <typename T, bool kCarry, bool kBounded>
+std::uint32_t move_block(const SourceTable<T>& t, std::size_t n, const PointArrays& from, const PointArrays& to,
+                         std::size_t at, const LaneExtremes<T>& extremes, LaneBatch<T, kCarry>& batch,
+                         std::size_t& skipped) {
   constexpr std::size_t kWidth = lanes::kCount<T>;
-  typename lanes::LaneTypes<T>::Bits bad{};
+  LaneBits<T> bad{};
   std::size_t k = 0;
   for (; k + kWidth <= n; k += kWidth) {
-    move_lanes<T, kCarry>(t, from.at(k), to.at(k), lane_min_det + k, lane_max_squared + k, bad);
+    skipped += move_lanes<T, kCarry, kBounded>(t, from.at(k), to.at(k), k, at + k, kWidth, extremes, batch, bad);
+    if (batch.size() >= kWidth) batch.flush_register(t, extremes, bad);
   }
   if (k < n) {
     alignas(64) float copy[6][kWidth];
@@ -408,8 +610,9 @@ std::uint32_t move_block_exact(const SourceTable<T>& t, std::size_t n, const Poi
       for (std::size_t j = 0; j < kWidth; ++j) copy[a][j] = in[a][std::min(k + j, n - 1)];
     }
     const PointArrays padded{copy[0], copy[1], copy[2], copy[3], copy[4], copy[5]};
-    move_lanes<T, kCarry>(t, padded, padded, lane_min_det + k, lane_max_squared + k, bad);
+    skipped += move_lanes<T, kCarry, kBounded>(t, padded, padded, k, at + k, n - k, extremes, batch, bad);
     for (int a = 0; a < arrays; ++a) std::copy_n(copy[a], n - k, out[a] + k);
+    if (batch.size() >= kWidth) batch.flush_register(t, extremes, bad);
   }
   std::uint32_t any = 0;
   for (std::size_t j = 0; j < kWidth; ++j) any |= static_cast<std::uint32_t>(bad[j] != 0);
@@ -498,36 +701,8 @@ double block_gradient_bound(const SourceTable<T>& t, const float* x, const float
   return bound;  // NaN (a NaN position) compares false against the setting: computed exactly
 }
 
-struct SkipStats {
-  std::size_t skipped = 0;
-  double max_skipped_bound = 0.0;
-  double min_det_floor = 1.0;
-};
-
-// The per-point step over a block whose `bound` the displacement pass summed. The skipped
-// points' extremes are kept per block lane (a scalar running max does not vectorise).
-template <typename T>
-struct SkipLanes {
-  alignas(64) T max_bound[kBlock];
-  alignas(64) T min_det_floor[kBlock];
-  alignas(64) std::uint32_t skipped[kBlock];
-  SkipLanes() {
-    for (std::size_t k = 0; k < kBlock; ++k) {
-      max_bound[k] = T(0);
-      min_det_floor[k] = T(1);
-      skipped[k] = 0;
-    }
-  }
-  void add_to(SkipStats& s) const {
-    for (std::size_t k = 0; k < kBlock; ++k) {
-      s.skipped += skipped[k];
-      s.max_skipped_bound = std::max(s.max_skipped_bound, static_cast<double>(max_bound[k]));
-      s.min_det_floor = std::min(s.min_det_floor, static_cast<double>(min_det_floor[k]));
-    }
-  }
-};
-
-// The points of a bounded pass that need their gradient, collected across blocks until about a
+// The block passes' batch (the register pass has LaneBatch), for a bounded pass with the
+// reciprocal estimate: the points that need their gradient, collected across blocks until about a
 // block's worth: a block over the threshold usually holds only a few of them (17 on average in
 // the 100k dragon's five-finger frame, in 473 of its 783 blocks), and a gradient pass over a
 // few points costs nearly what one over a full block does. Each keeps its position before the
@@ -794,6 +969,19 @@ void copy_indexed(IndexOf index_of, std::size_t begin, std::size_t n, std::vecto
   }
 }
 
+// Where a block's three attributes are worked on: the model's arrays from `begin` in a
+// contiguous pass, the block's copy (gathered here) otherwise.
+template <bool kContiguous, typename IndexOf>
+std::array<float*, 3> block_arrays(IndexOf index_of, std::size_t begin, std::size_t n, std::vector<float>& a,
+                                   std::vector<float>& b, std::vector<float>& c, float* ka, float* kb, float* kc) {
+  if constexpr (kContiguous) {
+    return {a.data() + begin, b.data() + begin, c.data() + begin};
+  } else {
+    copy_indexed<true>(index_of, begin, n, a, b, c, ka, kb, kc);
+    return {ka, kb, kc};
+  }
+}
+
 // The extremes of part of a pass, reduced across parts exactly (max and min do not depend on
 // the order).
 template <typename T>
@@ -841,18 +1029,46 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     lane_min_det[k] = T(1);
   }
   std::uint32_t bad = 0;
+  // The register pass (move_block) serves every pass with a gradient; the block arrays below
+  // remain for the reciprocal estimate and for positions alone.
+  const bool by_registers = kGradient && !t.fast_inverse_sqrt;
+  const LaneExtremes<T> extremes{lane_min_det, lane_max_squared, &skip_lanes};
+  // A contiguous pass batches across its blocks, by point index; a gathered one within each
+  // block, into the block's copy.
+  LaneBatch<T, kCarry> lane_batch;
+  LaneBits<T> batch_bad{};
+  if constexpr (kContiguous) {
+    const PointArrays model_arrays{model.x.data(),  model.y.data(),  model.z.data(),
+                                   model.nx.data(), model.ny.data(), model.nz.data()};
+    lane_batch.aim(model_arrays, aside ? JournalWriter{*journal}.aside(0, kCarry) : model_arrays);
+  } else {
+    const PointArrays copy{gx, gy, gz, gnx, gny, gnz};
+    lane_batch.aim(copy, copy);
+  }
   for (std::size_t begin = first; begin < last; begin += kBlock) {
     const std::size_t n = std::min(kBlock, last - begin);
-    float *x, *y, *z, *nx = nullptr, *ny = nullptr, *nz = nullptr;
-    if constexpr (kContiguous) {
-      x = model.x.data() + begin;
-      y = model.y.data() + begin;
-      z = model.z.data() + begin;
-    } else {
-      x = gx;
-      y = gy;
-      z = gz;
-      copy_indexed<true>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
+    const auto [x, y, z] = block_arrays<kContiguous>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
+    float *nx = nullptr, *ny = nullptr, *nz = nullptr;
+    const auto normals = [&] {
+      const std::array<float*, 3> at =
+          block_arrays<kContiguous>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
+      nx = at[0];
+      ny = at[1];
+      nz = at[2];
+    };
+    if (by_registers) {
+      if constexpr (kCarry) normals();
+      if (journal && !aside) JournalWriter{*journal}.record<kContiguous>(index_of, begin, n, x, y, z, nx, ny, nz);
+      const PointArrays in_place{x, y, z, nx, ny, nz};
+      const PointArrays to = aside ? JournalWriter{*journal}.aside(begin, kCarry) : in_place;
+      bad |= move_block<T, kCarry, kBounded>(t, n, in_place, to, kContiguous ? begin : 0, extremes, lane_batch,
+                                             skips.skipped);
+      if constexpr (!kContiguous) {
+        lane_batch.flush(t, extremes, batch_bad);
+        copy_indexed<false>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
+        if constexpr (kCarry) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
+      }
+      continue;
     }
     double bound = 0.0;
     if constexpr (kBounded) bound = block_gradient_bound(t, x, y, z, n);
@@ -861,18 +1077,7 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     // frame that is most blocks, and half the arrays a block would otherwise stream.
     const bool skip_block = kBounded && bound <= static_cast<double>(t.skip_bound);
     const bool normals_here = kCarry && !skip_block;
-    if (normals_here) {
-      if constexpr (kContiguous) {
-        nx = model.nx.data() + begin;
-        ny = model.ny.data() + begin;
-        nz = model.nz.data() + begin;
-      } else {
-        nx = gnx;
-        ny = gny;
-        nz = gnz;
-        copy_indexed<true>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
-      }
-    }
+    if (normals_here) normals();
     if (journal && !aside) {
       JournalWriter{*journal}.record<kContiguous>(index_of, begin, n, x, y, z, nx, ny, nz);
     }
@@ -883,7 +1088,6 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     // A bounded block over the tolerance first sums each point's bound with its displacement;
     // unless most of its points need their gradient, those few are batched and the block moves.
     bool exact = !skip_block;
-    bool checked = false;  // the fused exact pass checks what it writes in registers
     if constexpr (kBounded) {
       if (!skip_block) {
         add_sources<T, false, true>(t, b, gb);
@@ -902,26 +1106,21 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
       skips.max_skipped_bound = std::max(skips.max_skipped_bound, bound);
       const double floor = 1.0 - bound;
       skips.min_det_floor = std::min(skips.min_det_floor, floor * floor * floor);
-    } else if (exact && kGradient && !t.fast_inverse_sqrt) {
-      const PointArrays in_place{x, y, z, nx, ny, nz};
-      const PointArrays to = aside ? JournalWriter{*journal}.aside(begin, kCarry) : in_place;
-      bad |= move_block_exact<T, kCarry>(t, n, in_place, to, lane_min_det, lane_max_squared);
-      checked = true;
     } else if (exact) {
       add_sources<T, kGradient>(t, b, gb);
       finish_block<T, kGradient, kCarry>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
       if constexpr (kGradient) bad |= non_finite_bits(dets, n);
     }
-    if (!checked) {
-      if (normals_here) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
-      bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
-    }
+    if (normals_here) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
+    bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
     if constexpr (!kContiguous) {
       copy_indexed<false>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
       if (normals_here) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
     }
   }
   if constexpr (kBounded) batch.flush(t, gb, lane_min_det, bad);
+  lane_batch.flush(t, extremes, batch_bad);
+  for (std::size_t j = 0; j < lanes::kCount<T>; ++j) bad |= static_cast<std::uint32_t>(batch_bad[j] != 0);
   if constexpr (kContiguous) {
     if (journal && !aside) finish_streaming();
   }
@@ -948,7 +1147,7 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
   // A fused global pass writes its new values beside the old ones, in the journal's arrays, and
   // the two sets change places at the end: the journal then holds the old values without a copy
   // (a third of a global frame's memory traffic).
-  const bool aside = kContiguous && kGradient && !kBounded && !t.fast_inverse_sqrt && journal &&
+  const bool aside = kContiguous && kGradient && !t.fast_inverse_sqrt && journal &&
                      JournalWriter{*journal}.can_write_aside(model, kCarry);
   PassExtremes<T> e;
   if (!worker || count < kMinSplitPoints) {

@@ -10,6 +10,15 @@
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
+#if defined(__SSE2__)
+// GCC 12 reports a false -Wmaybe-uninitialized (and -Wuninitialized) inside the unmasked AVX-512
+// square roots, which pass _mm512_undefined_ps() as the unused merge source (GCC bug 105593).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#include <immintrin.h>
+#pragma GCC diagnostic pop
+#endif
 
 namespace sculpt::deform::lanes {
 
@@ -92,17 +101,44 @@ inline V splat(T c) noexcept {
   return c - V{};
 }
 
+// The target's instruction where it has one: a lane loop is turned into one instruction only
+// while GCC's vectoriser judges it worth it, and inlined into a large function it was not (it
+// emitted sixteen scalar fused multiply-adds with the extractions between them).
 template <typename V>
 inline V fma(V a, V b, V c) noexcept {
+  using T = std::remove_cvref_t<decltype(a[0])>;
+#if defined(__AVX512F__)
+  if constexpr (sizeof(V) == 64 && std::is_same_v<T, float>) return _mm512_fmadd_ps(a, b, c);
+  if constexpr (sizeof(V) == 64 && std::is_same_v<T, double>) return _mm512_fmadd_pd(a, b, c);
+#endif
+#if defined(__FMA__)
+  if constexpr (sizeof(V) == 32 && std::is_same_v<T, float>) return _mm256_fmadd_ps(a, b, c);
+  if constexpr (sizeof(V) == 32 && std::is_same_v<T, double>) return _mm256_fmadd_pd(a, b, c);
+  if constexpr (sizeof(V) == 16 && std::is_same_v<T, float>) return _mm_fmadd_ps(a, b, c);
+  if constexpr (sizeof(V) == 16 && std::is_same_v<T, double>) return _mm_fmadd_pd(a, b, c);
+#endif
   V r;
-  for (std::size_t j = 0; j < sizeof(V) / sizeof(a[0]); ++j) r[j] = std::fma(a[j], b[j], c[j]);
+  for (std::size_t j = 0; j < sizeof(V) / sizeof(T); ++j) r[j] = std::fma(a[j], b[j], c[j]);
   return r;
 }
 
 template <typename V>
 inline V sqrt(V a) noexcept {
+  using T = std::remove_cvref_t<decltype(a[0])>;
+#if defined(__AVX512F__)
+  if constexpr (sizeof(V) == 64 && std::is_same_v<T, float>) return _mm512_sqrt_ps(a);
+  if constexpr (sizeof(V) == 64 && std::is_same_v<T, double>) return _mm512_sqrt_pd(a);
+#endif
+#if defined(__AVX__)
+  if constexpr (sizeof(V) == 32 && std::is_same_v<T, float>) return _mm256_sqrt_ps(a);
+  if constexpr (sizeof(V) == 32 && std::is_same_v<T, double>) return _mm256_sqrt_pd(a);
+#endif
+#if defined(__SSE2__)
+  if constexpr (sizeof(V) == 16 && std::is_same_v<T, float>) return _mm_sqrt_ps(a);
+  if constexpr (sizeof(V) == 16 && std::is_same_v<T, double>) return _mm_sqrt_pd(a);
+#endif
   V r;
-  for (std::size_t j = 0; j < sizeof(V) / sizeof(a[0]); ++j) r[j] = std::sqrt(a[j]);
+  for (std::size_t j = 0; j < sizeof(V) / sizeof(T); ++j) r[j] = std::sqrt(a[j]);
   return r;
 }
 
