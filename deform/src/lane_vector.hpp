@@ -1,9 +1,9 @@
 #pragma once
-// One register of lanes (GCC vector values: 16 floats or 8 doubles with AVX-512, half that
-// with AVX, a quarter with SSE), for loops that keep their running sums in registers across an inner loop
-// the auto-vectoriser would not keep there. Every lane operation is the scalar IEEE operation
-// lane by lane (std::fma and std::sqrt, correctly rounded), so a lane computes exactly what the
-// scalar code computes; GCC turns each lane loop below into one vector instruction.
+// One register of lanes (GCC vector values: 16 floats or 8 doubles with AVX-512, half that with
+// AVX, a quarter with SSE), for loops that keep their running sums in registers across an inner
+// loop, where the auto-vectoriser would keep them in memory. Every lane operation is the scalar
+// IEEE operation lane by lane (fused multiply-add and square root correctly rounded, as
+// std::fma and std::sqrt), so a lane computes exactly what the scalar code computes.
 
 #include <cmath>
 #include <cstddef>
