@@ -85,9 +85,9 @@ struct GradientBlock {
 //   u(Q) = sum_s (alpha/r + beta/r^3) f_s + gamma/r^3 (r.f_s) r   (see KernelCoefficients)
 // and, with `kGradient`, its gradient, sharing one square root and one division per point and
 // source: 1/r^3 and 1/r^5 are products of 1/r, where they used to be two more divisions.
-// The displacement is evaluated with exactly the operations it always was (each position is
-// bit for bit what it was); the gradient, which only feeds the normals and the fold guard,
-// is rearranged as g += a r^T + b f^T + (h r.f) I with
+// Each source's share is add_share()'s, in every pass (these block passes and the register
+// pass), so all of them give the same positions bit for bit; the gradient, which only feeds
+// the normals and the fold guard, is rearranged as g += a r^T + b f^T + (h r.f) I with
 //   a = g'(r)/r f + h'(r)/r (r.f) r,  b = h r,  h = gamma/r^3,
 // and fused multiply-adds (one rounding each, exact IEEE operations; the library is built with
 // -ffp-contract=off, so the compiler fuses nothing else).
@@ -132,6 +132,15 @@ template <typename U>
   }
 }
 
+template <typename U>
+[[gnu::always_inline]] inline U root(U a) {
+  if constexpr (std::is_floating_point_v<U>) {
+    return std::sqrt(a);
+  } else {
+    return lanes::sqrt(a);
+  }
+}
+
 // c in every lane (U is a scalar or lanes of T).
 template <typename U, typename T>
 [[gnu::always_inline]] inline U every(T c) {
@@ -139,15 +148,6 @@ template <typename U, typename T>
     return c;
   } else {
     return lanes::splat<U>(c);
-  }
-}
-
-template <typename U>
-[[gnu::always_inline]] inline U root(U a) {
-  if constexpr (std::is_floating_point_v<U>) {
-    return std::sqrt(a);
-  } else {
-    return lanes::sqrt(a);
   }
 }
 
@@ -165,8 +165,8 @@ template <typename U, typename V>
 
 // One source's share at one point or at a register of points (U is T or its lanes), from
 // r = Q - P and inv = 1/sqrt(r.r + eps^2): adds the displacement to u and, with kGradient, the
-// gradient to g, by the formulas above. The block passes and the fused pass both call it, so
-// they give the same bits.
+// gradient to g, by the formulas above. The block passes and the register pass both call it,
+// so they give the same bits.
 template <typename T, bool kGradient, typename U>
 [[gnu::always_inline]] inline void add_share(const SourceTable<T>& t, std::size_t s, U rx, U ry, U rz, U inv, U (&u)[3],
                                              U (&g)[3][3]) {
@@ -387,7 +387,6 @@ struct LaneExtremes {
   T* min_det;
   T* max_squared;
   SkipLanes<T>* skip;  // a bounded pass's skipped points
-  LaneExtremes at(std::size_t k) const { return {min_det + k, max_squared + k, skip}; }
 };
 
 template <typename T>
@@ -1002,7 +1001,7 @@ struct PassExtremes {
 // Covers the pass's points first .. last - 1 (first a multiple of kBlock).
 // With kBounded, the gradient is computed only where its bound exceeds the table's skip_bound
 // (bounded_gradient).
-// With `aside` (a fused global pass, apply_typed decides), the new values go to the journal's
+// With `aside` (a global register pass, apply_typed decides), the new values go to the journal's
 // arrays instead of over the old ones, and nothing is copied into the journal: the caller then
 // trades the arrays (JournalWriter::write_aside).
 template <typename T, bool kGradient, bool kCarry, bool kContiguous, bool kBounded, typename IndexOf>

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "sculpt/deform/displacement_field.hpp"
+#include "sculpt/deform/field_worker.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/kernel.hpp"
 #include "deform/five_finger_frame.hpp"
@@ -160,6 +161,45 @@ TEST(BoundedNormals, PositionsAreExactAndEachNormalIsExactOrWithinItsBound) {
       EXPECT_LE(b.min_jacobian, e.min_jacobian);
       EXPECT_GT(b.min_jacobian, 0.0);
     }
+  }
+}
+
+// The bounded pass's batch works by point index in a global pass (into the journal's arrays
+// when it writes aside) and within each gathered block in a region pass. The same frame run in
+// place, aside, on two threads and as a region listing every point must leave the same bytes,
+// and the journal written aside must undo it.
+TEST(BoundedNormals, InPlaceAsideOnTwoThreadsAndGatheredTheBytesAreTheSame) {
+  const Frame f = five_fingers();
+  std::vector<std::uint32_t> every_point(f.base.size());
+  for (std::size_t i = 0; i < every_point.size(); ++i) every_point[i] = static_cast<std::uint32_t>(i);
+  for (Precision precision : {Precision::kFloat, Precision::kDouble}) {
+    SCOPED_TRACE(precision == Precision::kFloat ? "float" : "double");
+    const FieldOptions options{precision, true, 1e-2};
+    PointModel in_place = f.base;
+    const FieldResult r = apply_displacements(in_place, Kernel{}, f.sources, {}, true, options, true);
+    ASSERT_GT(r.gradients_skipped, 0u);
+    ASSERT_LT(r.gradients_skipped, f.base.size());
+
+    PointModel aside = f.base;
+    UndoJournal journal;
+    journal.reserve(f.base.size(), true);
+    FieldWorker worker;
+    const FieldResult a = apply_displacements(aside, Kernel{}, f.sources, {}, true, options, true, &journal, &worker);
+    EXPECT_TRUE(same_bytes(aside.x, in_place.x) && same_bytes(aside.y, in_place.y) && same_bytes(aside.z, in_place.z));
+    EXPECT_TRUE(same_bytes(aside.nx, in_place.nx) && same_bytes(aside.ny, in_place.ny) &&
+                same_bytes(aside.nz, in_place.nz));
+    EXPECT_EQ(a.gradients_skipped, r.gradients_skipped);
+    journal.restore(aside);
+    EXPECT_TRUE(same_bytes(aside.x, f.base.x) && same_bytes(aside.nx, f.base.nx) && same_bytes(aside.nz, f.base.nz));
+
+    PointModel gathered = f.base;
+    const FieldResult g = apply_displacements(gathered, Kernel{}, f.sources, every_point, false, options, true);
+    EXPECT_TRUE(same_bytes(gathered.x, in_place.x) && same_bytes(gathered.y, in_place.y) &&
+                same_bytes(gathered.z, in_place.z));
+    EXPECT_TRUE(same_bytes(gathered.nx, in_place.nx) && same_bytes(gathered.ny, in_place.ny) &&
+                same_bytes(gathered.nz, in_place.nz));
+    EXPECT_EQ(g.gradients_skipped, r.gradients_skipped);
+    EXPECT_EQ(g.min_jacobian, r.min_jacobian);
   }
 }
 
