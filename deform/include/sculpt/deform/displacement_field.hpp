@@ -33,11 +33,12 @@ struct FieldOptions {
   /// when the model has no normals.
   bool carry_normals = true;
   /// The bounded normal update, a named approximation (0, the default: off). Where the sum over
-  /// the sources of a bound on ||grad u||_2 at a point is at most this, the gradient is not
-  /// computed: the point keeps its normal, which is then within asin(b / (1 - b)) of the carried
-  /// one, and det(I + grad u) >= (1 - b)^3 > 0 there, so no fold is hidden from the guard (the
-  /// README's physics notes derive both). Everywhere else the normal and the Jacobian are exactly
-  /// the exact pass's, bit for bit; positions are always. In [0, 0.1].
+  /// the sources of a bound on ||grad u||_2 at a point is at most this, the gradient may be left
+  /// out (it is, unless most of the points computed with it need theirs): the point keeps its
+  /// normal, which is then within asin(b / (1 - b)) of the carried one, and
+  /// det(I + grad u) >= (1 - b)^3 > 0 there, so no fold is hidden from the guard (the README's
+  /// physics notes derive both). Every other normal and Jacobian is exactly the exact pass's, bit
+  /// for bit; positions always are. FieldResult counts the normals kept. In [0, 0.1].
   double normal_skip_bound = 0.0;
   /// A named approximation (off by default): in float precision, 1/r of every point and source
   /// comes from the processor's reciprocal square root estimate refined by one Newton step
@@ -67,7 +68,8 @@ class UndoJournal {
   std::vector<std::uint32_t> index_;
   std::vector<float> x_, y_, z_, nx_, ny_, nz_;
   // Per block of the pass's slots (the displacement loop's blocks): whether its normals were
-  // recorded. A bounded pass neither changes nor records the normals of the blocks it skips.
+  // recorded. A bounded block pass neither changes nor records the normals of the blocks it
+  // skips (a pass writing aside records every block's).
   std::vector<std::uint8_t> block_normals_;
   std::size_t count_ = 0;
   bool normals_ = false;
