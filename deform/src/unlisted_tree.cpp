@@ -174,12 +174,16 @@ bool UnlistedTree::within_radius_drifted(const PointModel& model, const double* 
       complete = false;
     }
   };
+  // A point within the core at its snapshot position is within the radius wherever it moved,
+  // as a whole subtree is: only the others are read at their current positions, scattered
+  // through the model's arrays (a region's ball holds mostly core points).
   auto leaf = [&](std::uint32_t first, std::uint32_t end) {
     for (std::uint32_t k = first; k < end; ++k) {
       const float* p = ordered_xyz_.data() + 3 * static_cast<std::size_t>(k);
-      if (squared_distance_to(p[0], p[1], p[2], q) > bound) continue;
+      const double snapshot_squared = squared_distance_to(p[0], p[1], p[2], q);
+      if (snapshot_squared > bound) continue;
       const std::uint32_t i = order_[k];
-      if (current_squared_distance(model, i, q) <= radius_squared) append(i);
+      if (snapshot_squared <= inside || current_squared_distance(model, i, q) <= radius_squared) append(i);
     }
   };
   auto whole = [&](std::uint32_t begin, std::uint32_t end) {

@@ -63,10 +63,10 @@ class UnlistedTree {
                      std::vector<std::uint32_t>& out) const noexcept;
   /// Without the list: appends the points of `model` within `radius` of q at their current
   /// positions, given that none moved more than `drift` from its snapshot position, within out's
-  /// capacity (false when one did not fit). A point within radius + drift of q at its snapshot
-  /// position is tested at its current one; a subtree whose box lies wholly within
-  /// radius - drift of q is appended whole, untested, since every point of it is then within the
-  /// radius wherever it moved. Order: the tree's.
+  /// capacity (false when one did not fit). A point within radius - drift of q at its snapshot
+  /// position is appended untested, and so is a subtree whose box lies wholly within that core,
+  /// since every such point is within the radius wherever it moved; a point between the core and
+  /// radius + drift is tested at its current position. Order: the tree's.
   bool within_radius_drifted(const PointModel& model, const double* q, double radius, double drift,
                              std::vector<std::uint32_t>& out) const noexcept;
 
