@@ -57,98 +57,26 @@ SourceTable<T> make_table(const Kernel& kernel, std::span<const SourceForce> sou
   return t;
 }
 
-// Points are processed in blocks: every source is added over the whole block (the innermost
-// loop runs over points, so it vectorises), then one pass per point finishes the block. The
-// loop over sources stays outside: with at most ten of them an inner loop over sources would
-// be too short to vectorise. A block reads its positions in place when the points are
-// contiguous (every point moves) and from a gathered copy otherwise.
+// A pass works through its points a block at a time: a block is where a region pass gathers its
+// points' positions and normals (scattering them back after), and the journal's unit. Within a
+// block, the sums over the sources stay in registers (move_lanes).
 constexpr std::size_t kBlock = 128;
 
-template <typename T>
-struct Block {
-  std::size_t size = 0;
-  const float* qx = nullptr;  // positions before the frame
-  const float* qy = nullptr;
-  const float* qz = nullptr;
-  alignas(64) T ux[kBlock], uy[kBlock], uz[kBlock];
-  alignas(64) T bound[kBlock];  // summed bounds on ||grad u||_2, when the pass keeps them
-};
-
-// The displacement gradient g_lm = du_l/dQ_m over a block (same formula as
-// displacement_gradient), for carrying normals and for the fold guard.
-template <typename T>
-struct GradientBlock {
-  alignas(64) T g[3][3][kBlock];
-};
-
-// One pass per source over the block adds the displacement
-//   u(Q) = sum_s (alpha/r + beta/r^3) f_s + gamma/r^3 (r.f_s) r   (see KernelCoefficients)
-// and, with `kGradient`, its gradient, sharing one square root and one division per point and
-// source: 1/r^3 and 1/r^5 are products of 1/r, where they used to be two more divisions.
-// Each source's share is add_share()'s, in every pass (these block passes and the register
-// pass), so all of them give the same positions bit for bit; the gradient, which only feeds
-// the normals and the fold guard, is rearranged as g += a r^T + b f^T + (h r.f) I with
-//   a = g'(r)/r f + h'(r)/r (r.f) r,  b = h r,  h = gamma/r^3,
-// and fused multiply-adds (one rounding each, exact IEEE operations; the library is built with
-// -ffp-contract=off, so the compiler fuses nothing else).
-// With `kBound` (and no gradient), the block's `bound` sums each source's bound on ||grad u||_2
-// instead, from the same reciprocal: three more operations where the gradient costs thirty.
-// With `kEstimate` (FieldOptions::fast_inverse_sqrt), 1/r comes from inverse_sqrt_estimate() over
-// the block's r^2 first, in place of a square root and a division per point; everything else is
-// the same, so the displacement-only, bounded and gradient passes still agree bit for bit.
-template <typename T, bool kGradient, bool kFirst, bool kBound, bool kEstimate>
-void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb);
-
-template <typename T, bool kGradient, bool kBound, bool kEstimate>
-void add_sources_with(const SourceTable<T>& t, Block<T>& b, GradientBlock<T>& gb) {
-  for (std::size_t s = 0; s < t.count; ++s) {
-    if (s == 0) {
-      add_source<T, kGradient, true, kBound, kEstimate>(t, s, b, gb);
-    } else {
-      add_source<T, kGradient, false, kBound, kEstimate>(t, s, b, gb);
-    }
-  }
-}
-
-template <typename T, bool kGradient, bool kBound = false>
-void add_sources(const SourceTable<T>& t, Block<T>& b, GradientBlock<T>& gb) {
-  static_assert(!(kGradient && kBound), "the bound stands in for the gradient");
-  if constexpr (std::is_same_v<T, float>) {
-    if (t.fast_inverse_sqrt) {
-      add_sources_with<T, kGradient, kBound, true>(t, b, gb);
-      return;
-    }
-  }
-  add_sources_with<T, kGradient, kBound, false>(t, b, gb);
-}
-
-// A fused multiply-add and a square root of scalars or of lanes (the same IEEE operation).
+// A fused multiply-add, a square root and c in every lane, of lanes U (short names: the
+// formulas below read as formulas).
 template <typename U>
 [[gnu::always_inline]] inline U fused(U a, U b, U c) {
-  if constexpr (std::is_floating_point_v<U>) {
-    return std::fma(a, b, c);
-  } else {
-    return lanes::fma(a, b, c);
-  }
+  return lanes::fma(a, b, c);
 }
 
 template <typename U>
 [[gnu::always_inline]] inline U root(U a) {
-  if constexpr (std::is_floating_point_v<U>) {
-    return std::sqrt(a);
-  } else {
-    return lanes::sqrt(a);
-  }
+  return lanes::sqrt(a);
 }
 
-// c in every lane (U is a scalar or lanes of T).
 template <typename U, typename T>
 [[gnu::always_inline]] inline U every(T c) {
-  if constexpr (std::is_floating_point_v<U>) {
-    return c;
-  } else {
-    return lanes::splat<U>(c);
-  }
+  return lanes::splat<U>(c);
 }
 
 // |r|^2 + eps^2 and a dot product, with the fused multiply-adds written out (the library does
@@ -163,10 +91,16 @@ template <typename U, typename V>
   return fused(az, every<U>(bz), fused(ay, every<U>(by), ax * bx));
 }
 
-// One source's share at one point or at a register of points (U is T or its lanes), from
-// r = Q - P and inv = 1/sqrt(r.r + eps^2): adds the displacement to u and, with kGradient, the
-// gradient to g, by the formulas above. The block passes and the register pass both call it,
-// so they give the same bits.
+// One source's share at a register of points (U: lanes of T), from
+// r = Q - P and inv = 1/sqrt(r.r + eps^2): adds the displacement
+//   u(Q) = sum_s (alpha/r + beta/r^3) f_s + gamma/r^3 (r.f_s) r   (see KernelCoefficients)
+// to u and, with kGradient, its gradient to g, sharing the one square root and division:
+// 1/r^3 and 1/r^5 are products of 1/r. The gradient, which only feeds the normals and the fold
+// guard, is rearranged as g += a r^T + b f^T + (h r.f) I with
+//   a = g'(r)/r f + h'(r)/r (r.f) r,  b = h r,  h = gamma/r^3,
+// and fused multiply-adds (one rounding each, exact IEEE operations; the library is built with
+// -ffp-contract=off, so the compiler fuses nothing else). Every pass calls it, so a point moves
+// by the same bits whichever pass computed it.
 template <typename T, bool kGradient, typename U>
 [[gnu::always_inline]] inline void add_share(const SourceTable<T>& t, std::size_t s, U rx, U ry, U rz, U inv, U (&u)[3],
                                              U (&g)[3][3]) {
@@ -203,70 +137,7 @@ template <typename T, bool kGradient, typename U>
   }
 }
 
-// One source over the block. The first one starts the sums from zero in registers (same
-// values as adding to zeroed arrays, without clearing twelve arrays per block first).
-template <typename T, bool kGradient, bool kFirst, bool kBound, bool kEstimate>
-void add_source(const SourceTable<T>& t, std::size_t s, Block<T>& b, GradientBlock<T>& gb) {
-  static_assert(!kEstimate || std::is_same_v<T, float>, "the estimate is a float one");
-  const std::size_t n = b.size;
-  const T eps2 = t.eps2;
-  const T px = t.px[s], py = t.py[s], pz = t.pz[s];
-  const T bound_r2 = t.bound_r2[s], bound_r4 = t.bound_r4[s];
-  const float* __restrict qx = b.qx;
-  const float* __restrict qy = b.qy;
-  const float* __restrict qz = b.qz;
-  // The running sum at k; the first source reads nothing.
-  auto sum = [](const T* acc, std::size_t k) {
-    if constexpr (kFirst) {
-      (void)acc;
-      (void)k;
-      return T(0);
-    } else {
-      return acc[k];
-    }
-  };
-  alignas(64) T estimate[kEstimate ? kBlock : 1];  // 1/r, when it is estimated
-  if constexpr (kEstimate) {
-    for (std::size_t k = 0; k < n; ++k) {
-      const T rx = T(qx[k]) - px, ry = T(qy[k]) - py, rz = T(qz[k]) - pz;
-      estimate[k] = squared_distance(rx, ry, rz, eps2);
-    }
-    inverse_sqrt_estimate(estimate, n);
-  }
-#pragma GCC ivdep
-  for (std::size_t k = 0; k < n; ++k) {
-    const T rx = T(qx[k]) - px, ry = T(qy[k]) - py, rz = T(qz[k]) - pz;
-    T inv;
-    if constexpr (kEstimate) {
-      inv = estimate[k];
-    } else {
-      inv = T(1) / std::sqrt(squared_distance(rx, ry, rz, eps2));
-    }
-    T u[3] = {sum(b.ux, k), sum(b.uy, k), sum(b.uz, k)};
-    T g[3][3] = {};
-    if constexpr (kGradient) {
-      for (int l = 0; l < 3; ++l) {
-        for (int m = 0; m < 3; ++m) g[l][m] = sum(gb.g[l][m], k);
-      }
-    }
-    add_share<T, kGradient>(t, s, rx, ry, rz, inv, u, g);
-    b.ux[k] = u[0];
-    b.uy[k] = u[1];
-    b.uz[k] = u[2];
-    if constexpr (kBound) {
-      const T inv2 = inv * inv;
-      b.bound[k] = sum(b.bound, k) + std::fma(bound_r4, inv2, bound_r2) * inv2;
-    }
-    if constexpr (kGradient) {
-      for (int l = 0; l < 3; ++l) {
-        for (int m = 0; m < 3; ++m) gb.g[l][m][k] = g[l][m];
-      }
-    }
-  }
-}
-
-// det(I + grad u) from the gradient g (of one point, or of a register of them: U is T or its
-// lanes) and, when `kCarry`, the normal (n0, n1, n2) carried by Nanson's formula (MATH.md §6):
+// det(I + grad u) from the gradient g of a register of points (U: lanes of T) and, when `kCarry`, the normal (n0, n1, n2) carried by Nanson's formula (MATH.md §6):
 // n' = normalize(cof(Fg) n), cof(Fg) = det(Fg) Fg^-T. The cofactor is used as it is: where the
 // frame folded (det <= 0) no normal formula is meaningful, and the fold guard rejects the frame
 // before anyone reads that normal.
@@ -300,50 +171,6 @@ template <typename T, bool kCarry, typename U>
   return det;
 }
 
-// The same at block point k, for the block passes: the normal is read and written as floats.
-template <typename T, bool kCarry>
-inline T jacobian_and_normal(const GradientBlock<T>& gb, std::size_t k, float& nx, float& ny, float& nz) {
-  const T g[3][3] = {{gb.g[0][0][k], gb.g[0][1][k], gb.g[0][2][k]},
-                     {gb.g[1][0][k], gb.g[1][1][k], gb.g[1][2][k]},
-                     {gb.g[2][0][k], gb.g[2][1][k], gb.g[2][2][k]}};
-  T n0 = nx, n1 = ny, n2 = nz;
-  const T det = jacobian_and_normal<T, kCarry>(g, n0, n1, n2);
-  if constexpr (kCarry) {
-    nx = static_cast<float>(n0);
-    ny = static_cast<float>(n1);
-    nz = static_cast<float>(n2);
-  }
-  return det;
-}
-
-// The per-point end of a block, in place: each iteration reads its point's old position and
-// normal before writing them. The arrays are distinct (model arrays or the block's copies);
-// saying so lets the loop vectorise without run-time overlap checks.
-template <typename T, bool kGradient, bool kCarry>
-void finish_block(const GradientBlock<T>& gb, const Block<T>& b, std::size_t n, float* __restrict x,
-                  float* __restrict y, float* __restrict z, float* __restrict nx, float* __restrict ny,
-                  float* __restrict nz, T* __restrict dets, T* __restrict lane_min_det,
-                  T* __restrict lane_max_squared) {
-  for (std::size_t k = 0; k < n; ++k) {
-    if constexpr (kGradient) {
-      T det;
-      if constexpr (kCarry) {
-        det = jacobian_and_normal<T, true>(gb, k, nx[k], ny[k], nz[k]);
-      } else {
-        float unused = 0.0f;
-        det = jacobian_and_normal<T, false>(gb, k, unused, unused, unused);
-      }
-      dets[k] = det;
-      lane_min_det[k] = det < lane_min_det[k] ? det : lane_min_det[k];
-    }
-    x[k] = static_cast<float>(T(x[k]) + b.ux[k]);
-    y[k] = static_cast<float>(T(y[k]) + b.uy[k]);
-    z[k] = static_cast<float>(T(z[k]) + b.uz[k]);
-    const T u2 = dot(b.ux[k], b.uy[k], b.uz[k], b.ux[k], b.uy[k], b.uz[k]);
-    lane_max_squared[k] = u2 > lane_max_squared[k] ? u2 : lane_max_squared[k];
-  }
-}
-
 struct SkipStats {
   std::size_t skipped = 0;
   double max_skipped_bound = 0.0;
@@ -356,17 +183,14 @@ template <typename T>
 struct SkipLanes {
   alignas(64) T max_bound[kBlock];
   alignas(64) T min_det_floor[kBlock];
-  alignas(64) std::uint32_t skipped[kBlock];
   SkipLanes() {
     for (std::size_t k = 0; k < kBlock; ++k) {
       max_bound[k] = T(0);
       min_det_floor[k] = T(1);
-      skipped[k] = 0;
     }
   }
   void add_to(SkipStats& s) const {
     for (std::size_t k = 0; k < kBlock; ++k) {
-      s.skipped += skipped[k];
       s.max_skipped_bound = std::max(s.max_skipped_bound, static_cast<double>(max_bound[k]));
       s.min_det_floor = std::min(s.min_det_floor, static_cast<double>(min_det_floor[k]));
     }
@@ -395,10 +219,20 @@ template <typename T>
 using LaneBits = typename lanes::LaneTypes<T>::Bits;
 
 // Every source's 1/r at a register of points, first: the square roots and divisions of the
-// sources are independent and overlap, where one chain per source left the core waiting.
+// sources are independent and overlap, where one chain per source left the core waiting. With
+// FieldOptions::fast_inverse_sqrt (float), the processor's estimate refined instead.
 template <typename T>
 [[gnu::always_inline]] inline void reciprocal_distances(const SourceTable<T>& t, const Lanes<T>& qx, const Lanes<T>& qy,
                                                         const Lanes<T>& qz, Lanes<T> (&reciprocal)[kMaxSources]) {
+  if constexpr (std::is_same_v<T, float>) {
+    if (t.fast_inverse_sqrt) {
+      for (std::size_t s = 0; s < t.count; ++s) {
+        const Lanes<T> rx = qx - t.px[s], ry = qy - t.py[s], rz = qz - t.pz[s];
+        reciprocal[s] = lanes::inverse_sqrt_estimate(squared_distance(rx, ry, rz, t.eps2));
+      }
+      return;
+    }
+  }
   for (std::size_t s = 0; s < t.count; ++s) {
     const Lanes<T> rx = qx - t.px[s], ry = qy - t.py[s], rz = qz - t.pz[s];
     reciprocal[s] = T(1) / lanes::sqrt(squared_distance(rx, ry, rz, t.eps2));
@@ -406,7 +240,7 @@ template <typename T>
 }
 
 // The displacement u and gradient g summed over the sources at a register of points (each
-// source's share by add_share(), as in the block passes, so the same bits).
+// source's share by add_share()).
 template <typename T, bool kGradient>
 [[gnu::always_inline]] inline void sum_shares(const SourceTable<T>& t, const Lanes<T>& qx, const Lanes<T>& qy,
                                               const Lanes<T>& qz, const Lanes<T> (&reciprocal)[kMaxSources],
@@ -500,9 +334,9 @@ class LaneBatch {
   std::uint32_t at_[2 * kWidth];
 };
 
-// A pass a register of points at a time: the sums over the sources (displacement, gradient,
-// and with kBounded the bound on ||grad u||) stay in registers, and the Jacobian, the carried
-// normal and the new position follow in the same registers.
+// A pass a register of points at a time: the sums over the sources (displacement, with
+// kGradient the gradient, and with kBounded the bound on ||grad u||) stay in registers, and the
+// Jacobian, the carried normal and the new position follow in the same registers.
 // With kBounded, a register whose every point's bound is at most the table's skip_bound moves
 // with the displacement alone and keeps its normals (counted as skipped, with their bounds); one
 // where at most half the points are over it (or NaN) does the same for the others and hands
@@ -512,7 +346,7 @@ class LaneBatch {
 // batch's arrays; `valid` of its lanes are points (the rest pad a last register). ORs into
 // `bad` the lanes whose Jacobian, new position or new normal is not finite. Returns how many
 // points kept their normals.
-template <typename T, bool kCarry, bool kBounded>
+template <typename T, bool kGradient, bool kCarry, bool kBounded>
 std::size_t move_lanes(const SourceTable<T>& t, const PointArrays& from, const PointArrays& to, std::size_t lane,
                        std::size_t at, std::size_t valid, const LaneExtremes<T>& extremes, LaneBatch<T, kCarry>& batch,
                        LaneBits<T>& bad) {
@@ -564,6 +398,11 @@ std::size_t move_lanes(const SourceTable<T>& t, const PointArrays& from, const P
       return valid - over;
     }
   }
+  if constexpr (!kGradient) {
+    sum_shares<T, false>(t, qx, qy, qz, reciprocal, u, g);
+    move_to(u[0], u[1], u[2]);
+    return 0;
+  }
   sum_shares<T, true>(t, qx, qy, qz, reciprocal, u, g);
   V n0{}, n1{}, n2{};
   if constexpr (kCarry) {
@@ -589,7 +428,7 @@ std::size_t move_lanes(const SourceTable<T>& t, const PointArrays& from, const P
 // batch's arrays; the batch is computed whenever it holds a register's worth (after a padded
 // register is copied back, never before). Returns non-zero when a Jacobian, a new position or a
 // new normal was not finite; adds the points that kept their normals to `skipped`.
-template <typename T, bool kCarry, bool kBounded>
+template <typename T, bool kGradient, bool kCarry, bool kBounded>
 std::uint32_t move_block(const SourceTable<T>& t, std::size_t n, const PointArrays& from, const PointArrays& to,
                          std::size_t at, const LaneExtremes<T>& extremes, LaneBatch<T, kCarry>& batch,
                          std::size_t& skipped) {
@@ -597,7 +436,8 @@ std::uint32_t move_block(const SourceTable<T>& t, std::size_t n, const PointArra
   LaneBits<T> bad{};
   std::size_t k = 0;
   for (; k + kWidth <= n; k += kWidth) {
-    skipped += move_lanes<T, kCarry, kBounded>(t, from.at(k), to.at(k), k, at + k, kWidth, extremes, batch, bad);
+    skipped +=
+        move_lanes<T, kGradient, kCarry, kBounded>(t, from.at(k), to.at(k), k, at + k, kWidth, extremes, batch, bad);
     if (batch.size() >= kWidth) batch.flush_register(t, extremes, bad);
   }
   if (k < n) {
@@ -609,202 +449,13 @@ std::uint32_t move_block(const SourceTable<T>& t, std::size_t n, const PointArra
       for (std::size_t j = 0; j < kWidth; ++j) copy[a][j] = in[a][std::min(k + j, n - 1)];
     }
     const PointArrays padded{copy[0], copy[1], copy[2], copy[3], copy[4], copy[5]};
-    skipped += move_lanes<T, kCarry, kBounded>(t, padded, padded, k, at + k, n - k, extremes, batch, bad);
+    skipped += move_lanes<T, kGradient, kCarry, kBounded>(t, padded, padded, k, at + k, n - k, extremes, batch, bad);
     for (int a = 0; a < arrays; ++a) std::copy_n(copy[a], n - k, out[a] + k);
     if (batch.size() >= kWidth) batch.flush_register(t, extremes, bad);
   }
   std::uint32_t any = 0;
   for (std::size_t j = 0; j < kWidth; ++j) any |= static_cast<std::uint32_t>(bad[j] != 0);
   return any;
-}
-
-// Non-zero when any of the n values is infinite or NaN (all exponent bits set). Integer OR
-// reductions may be reordered, so this vectorises where a float sum would not.
-template <typename T>
-std::uint32_t non_finite_bits(const T* v, std::size_t n) {
-  static_assert(sizeof(T) == 4 || sizeof(T) == 8, "float or double");
-  using Bits = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
-  constexpr Bits kExponent = static_cast<Bits>(sizeof(T) == 4 ? 0x7f800000ull : 0x7ff0000000000000ull);
-  std::uint32_t bad = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    Bits bits;
-    std::memcpy(&bits, v + k, sizeof bits);
-    bad |= static_cast<std::uint32_t>((bits & kExponent) == kExponent);
-  }
-  return bad;
-}
-
-// The bounded normal update (FieldOptions::normal_skip_bound). Where the bound b on
-// ||grad u||_2 at a point is at most the setting, its gradient is not computed: the point moves
-// with the displacement alone, det(I + grad u) >= (1 - b)^3 > 0 there (no fold can hide), and
-// its kept normal is within asin(b / (1 - b)) of the carried one. Every other point's gradient,
-// Jacobian and normal are computed exactly as the exact pass computes them (same operations,
-// same bits). Decided in two steps:
-// - per block, from each source's distance to the block's bounding box (no point of the block
-//   is nearer): a block that passes whole costs the displacement alone;
-// - otherwise per point: the displacement pass also sums each point's bound (from the same
-//   reciprocal), and the points over the setting get their gradient from their positions before
-//   the move, collected over several blocks (GradientBatch); when most of the block needs it,
-//   the whole block is computed in place (gathering would cost more) and none of its points
-//   counts as skipped.
-template <typename T>
-double block_gradient_bound(const SourceTable<T>& t, const float* x, const float* y, const float* z, std::size_t n) {
-  // Lane-wise extremes, reduced once: a running scalar min does not vectorise without
-  // fast-math; min and max are exact whatever the order.
-  constexpr std::size_t kLanes = 16;
-  alignas(64) float lx[kLanes], ly[kLanes], lz[kLanes], hx[kLanes], hy[kLanes], hz[kLanes];
-  for (std::size_t j = 0; j < kLanes; ++j) {
-    lx[j] = hx[j] = x[0];
-    ly[j] = hy[j] = y[0];
-    lz[j] = hz[j] = z[0];
-  }
-  std::size_t k = 0;
-  for (; k + kLanes <= n; k += kLanes) {
-    for (std::size_t j = 0; j < kLanes; ++j) {
-      lx[j] = x[k + j] < lx[j] ? x[k + j] : lx[j];
-      hx[j] = x[k + j] > hx[j] ? x[k + j] : hx[j];
-      ly[j] = y[k + j] < ly[j] ? y[k + j] : ly[j];
-      hy[j] = y[k + j] > hy[j] ? y[k + j] : hy[j];
-      lz[j] = z[k + j] < lz[j] ? z[k + j] : lz[j];
-      hz[j] = z[k + j] > hz[j] ? z[k + j] : hz[j];
-    }
-  }
-  for (std::size_t j = 0; k + j < n; ++j) {
-    lx[j] = std::min(lx[j], x[k + j]);
-    hx[j] = std::max(hx[j], x[k + j]);
-    ly[j] = std::min(ly[j], y[k + j]);
-    hy[j] = std::max(hy[j], y[k + j]);
-    lz[j] = std::min(lz[j], z[k + j]);
-    hz[j] = std::max(hz[j], z[k + j]);
-  }
-  float lo[3] = {lx[0], ly[0], lz[0]}, hi[3] = {hx[0], hy[0], hz[0]};
-  for (std::size_t j = 1; j < kLanes; ++j) {
-    lo[0] = std::min(lo[0], lx[j]);
-    hi[0] = std::max(hi[0], hx[j]);
-    lo[1] = std::min(lo[1], ly[j]);
-    hi[1] = std::max(hi[1], hy[j]);
-    lo[2] = std::min(lo[2], lz[j]);
-    hi[2] = std::max(hi[2], hz[j]);
-  }
-  double bound = 0.0;
-  for (std::size_t s = 0; s < t.count; ++s) {
-    const double p[3] = {static_cast<double>(t.px[s]), static_cast<double>(t.py[s]), static_cast<double>(t.pz[s])};
-    double d2 = static_cast<double>(t.eps2);
-    for (int a = 0; a < 3; ++a) {
-      const double outside = std::max({0.0, static_cast<double>(lo[a]) - p[a], p[a] - static_cast<double>(hi[a])});
-      d2 += outside * outside;
-    }
-    const double inv2 = 1.0 / d2;  // +inf for a source inside the box: never skipped
-    bound += (static_cast<double>(t.bound_r2[s]) + static_cast<double>(t.bound_r4[s]) * inv2) * inv2;
-  }
-  return bound;  // NaN (a NaN position) compares false against the setting: computed exactly
-}
-
-// The block passes' batch (the register pass has LaneBatch), for a bounded pass with the
-// reciprocal estimate: the points that need their gradient, collected across blocks until about a
-// block's worth: a block over the threshold usually holds only a few of them (17 on average in
-// the 100k dragon's five-finger frame, in 473 of its 783 blocks), and a gradient pass over a
-// few points costs nearly what one over a full block does. Each keeps its position before the
-// move and where its normal lives (an offset from `nx`, `ny`, `nz`: the model's arrays, or a
-// gathered block's copy, which is flushed before it is scattered back). Room for two blocks,
-// so that a block's points are appended without a branch per point.
-template <typename T, bool kCarry>
-class GradientBatch {
- public:
-  GradientBatch(float* nx, float* ny, float* nz) : nx_(nx), ny_(ny), nz_(nz) {}
-
-  // Appends block points whose bound is over the tolerance (`needed` of them, at most half the
-  // block); `offset` is point k's normal index minus k. Flushes first if they would not fit.
-  void append(const SourceTable<T>& t, const Block<T>& b, std::size_t needed, std::size_t offset, GradientBlock<T>& gb,
-              T* lane_min_det, std::uint32_t& bad) {
-    if (size_ + needed > kBlock) flush(t, gb, lane_min_det, bad);
-    const T tolerance = t.skip_bound;
-    // Branch-free compaction: each point is written at the next free slot, which advances only
-    // past the points that need their gradient (NaN compares false: computed).
-    std::size_t m = size_;
-    for (std::size_t k = 0; k < b.size; ++k) {
-      x_[m] = b.qx[k];
-      y_[m] = b.qy[k];
-      z_[m] = b.qz[k];
-      at_[m] = static_cast<std::uint32_t>(offset + k);
-      m += static_cast<std::size_t>(!(b.bound[k] <= tolerance));
-    }
-    size_ = m;
-  }
-
-  // The gradient, Jacobian and carried normal of every collected point, written to its normal.
-  void flush(const SourceTable<T>& t, GradientBlock<T>& gb, T* __restrict lane_min_det, std::uint32_t& bad) {
-    const std::size_t m = size_;
-    if (m == 0) return;
-    size_ = 0;
-    Block<T> sub;
-    sub.size = m;
-    sub.qx = x_;
-    sub.qy = y_;
-    sub.qz = z_;
-    add_sources<T, true>(t, sub, gb);
-    alignas(64) T dets[kBlock];
-    alignas(64) float nx[kBlock], ny[kBlock], nz[kBlock];
-    for (std::size_t j = 0; j < m; ++j) {
-      if constexpr (kCarry) {
-        nx[j] = nx_[at_[j]];
-        ny[j] = ny_[at_[j]];
-        nz[j] = nz_[at_[j]];
-      }
-      dets[j] = jacobian_and_normal<T, kCarry>(gb, j, nx[j], ny[j], nz[j]);
-      lane_min_det[j] = dets[j] < lane_min_det[j] ? dets[j] : lane_min_det[j];
-    }
-    bad |= non_finite_bits(dets, m);
-    if constexpr (kCarry) {
-      // Written after the block's own check of its normals, so checked here.
-      bad |= non_finite_bits(nx, m) | non_finite_bits(ny, m) | non_finite_bits(nz, m);
-      for (std::size_t j = 0; j < m; ++j) {
-        nx_[at_[j]] = nx[j];
-        ny_[at_[j]] = ny[j];
-        nz_[at_[j]] = nz[j];
-      }
-    }
-  }
-
- private:
-  float *nx_, *ny_, *nz_;
-  std::size_t size_ = 0;
-  alignas(64) float x_[2 * kBlock], y_[2 * kBlock], z_[2 * kBlock];
-  std::uint32_t at_[2 * kBlock];
-};
-
-// Whether most of a bounded block's points need their gradient (their `bound`, summed by the
-// displacement pass, is over the tolerance; NaN compares false: needed). Such a block is computed
-// in place as the exact pass computes it, since gathering its points would cost more, and none
-// of its points counts as skipped.
-template <typename T>
-bool most_need_gradient(const SourceTable<T>& t, const Block<T>& b) {
-  const T tolerance = t.skip_bound;
-  std::uint32_t needed = 0;
-  for (std::size_t k = 0; k < b.size; ++k) needed += static_cast<std::uint32_t>(!(b.bound[k] <= tolerance));
-  return 2 * needed > b.size;
-}
-
-// The per-point step of a bounded block whose `bound` the displacement pass summed, before the
-// block moves: the skipped points' extremes are kept per block lane (a scalar running max does
-// not vectorise) and the points over the tolerance go to the batch.
-template <typename T, bool kCarry>
-void point_bounded_gradient(const SourceTable<T>& t, const Block<T>& b, GradientBlock<T>& gb, std::size_t offset,
-                            GradientBatch<T, kCarry>& batch, T* __restrict lane_min_det, std::uint32_t& bad,
-                            SkipLanes<T>& lanes) {
-  const T tolerance = t.skip_bound;
-  std::uint32_t needed = 0;
-  for (std::size_t k = 0; k < b.size; ++k) {
-    const T bound = b.bound[k];
-    const bool skip = bound <= tolerance;
-    const T floor = T(1) - bound;
-    const T det_floor = floor * floor * floor;
-    lanes.min_det_floor[k] = skip && det_floor < lanes.min_det_floor[k] ? det_floor : lanes.min_det_floor[k];
-    lanes.max_bound[k] = skip && bound > lanes.max_bound[k] ? bound : lanes.max_bound[k];
-    lanes.skipped[k] += static_cast<std::uint32_t>(skip);
-    needed += static_cast<std::uint32_t>(!skip);
-  }
-  if (needed > 0) batch.append(t, b, needed, offset, gb, lane_min_det, bad);
 }
 
 }  // namespace
@@ -880,7 +531,6 @@ struct JournalWriter {
       model.nx.swap(j.nx_);
       model.ny.swap(j.ny_);
       model.nz.swap(j.nz_);
-      std::fill(j.block_normals_.begin(), j.block_normals_.end(), std::uint8_t{1});
     }
     j.contiguous_ = true;
     j.recorded_normals_ = normals;
@@ -906,15 +556,10 @@ struct JournalWriter {
     copy(j.x_.data() + at, x, n);
     copy(j.y_.data() + at, y, n);
     copy(j.z_.data() + at, z, n);
-    if (j.normals_) {
-      // Blocks start at multiples of kBlock slots: one flag per block says whether its normals
-      // were recorded (a bounded pass leaves the normals of a block it skips untouched).
-      j.block_normals_[at / kBlock] = nx != nullptr;
-      if (nx) {
-        copy(j.nx_.data() + at, nx, n);
-        copy(j.ny_.data() + at, ny, n);
-        copy(j.nz_.data() + at, nz, n);
-      }
+    if (j.normals_ && nx) {
+      copy(j.nx_.data() + at, nx, n);
+      copy(j.ny_.data() + at, ny, n);
+      copy(j.nz_.data() + at, nz, n);
     }
   }
 };
@@ -929,7 +574,6 @@ void UndoJournal::reserve(std::size_t points, bool normals) {
   nx_.assign(normals ? points : 0, 0.0f);
   ny_.assign(normals ? points : 0, 0.0f);
   nz_.assign(normals ? points : 0, 0.0f);
-  block_normals_.assign(normals ? (points + kBlock - 1) / kBlock : 0, 0);
 }
 
 void UndoJournal::restore(PointModel& model) const noexcept {
@@ -939,7 +583,7 @@ void UndoJournal::restore(PointModel& model) const noexcept {
     model.x[i] = x_[k];
     model.y[i] = y_[k];
     model.z[i] = z_[k];
-    if (normals && block_normals_[k / kBlock]) {
+    if (normals) {
       model.nx[i] = nx_[k];
       model.ny[i] = ny_[k];
       model.nz[i] = nz_[k];
@@ -991,19 +635,15 @@ struct PassExtremes {
   SkipStats skips;
 };
 
-// Each block: record the old positions (and normals) in the journal, add every source's
-// displacement (and gradient) into block arrays, then one pass per point for the Jacobian, the
-// carried normal, the new position and the running extremes, and a bit test for non-finite
-// values. When every point moves (kContiguous) the block works in place on the model's arrays;
-// otherwise on a gathered copy, scattered back at the end. The extremes are kept per block
-// lane and reduced once at the end: a running scalar max/min does not vectorise without
-// fast-math, lane-wise selects do, and max and min are exact whatever the order.
+// Each block: record the old positions (and normals) in the journal, then move it a register at
+// a time (move_block). When every point moves (kContiguous) the block works in place on the
+// model's arrays; otherwise on a gathered copy, scattered back at the end. The extremes are kept
+// per block lane and reduced once at the end: max and min are exact whatever the order.
 // Covers the pass's points first .. last - 1 (first a multiple of kBlock).
-// With kBounded, the gradient is computed only where its bound exceeds the table's skip_bound
-// (bounded_gradient).
-// With `aside` (a global register pass, apply_typed decides), the new values go to the journal's
-// arrays instead of over the old ones, and nothing is copied into the journal: the caller then
-// trades the arrays (JournalWriter::write_aside).
+// With kBounded, the gradient is computed only where its bound exceeds the table's skip_bound.
+// With `aside` (a global pass, apply_typed decides), the new values go to the journal's arrays
+// instead of over the old ones, and nothing is copied into the journal: the caller then trades
+// the arrays (JournalWriter::write_aside).
 template <typename T, bool kGradient, bool kCarry, bool kContiguous, bool kBounded, typename IndexOf>
 PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::size_t first, std::size_t last,
                             IndexOf index_of, UndoJournal* journal, bool aside) noexcept {
@@ -1011,16 +651,8 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
   static_assert(kGradient || !kBounded, "only a gradient can be bounded");
   SkipStats skips;
   SkipLanes<T> skip_lanes;
-  Block<T> b;
-  GradientBlock<T> gb;
   alignas(64) float gx[kBlock], gy[kBlock], gz[kBlock];     // gathered positions
   alignas(64) float gnx[kBlock], gny[kBlock], gnz[kBlock];  // gathered normals
-  // A contiguous pass batches across its blocks, straight into the model's normals; a gathered
-  // one within each block, into the block's copy.
-  GradientBatch<T, kCarry> batch = kContiguous
-                                       ? GradientBatch<T, kCarry>(model.nx.data(), model.ny.data(), model.nz.data())
-                                       : GradientBatch<T, kCarry>(gnx, gny, gnz);
-  alignas(64) T dets[kBlock];
   alignas(64) T lane_max_squared[kBlock];
   alignas(64) T lane_min_det[kBlock];
   for (std::size_t k = 0; k < kBlock; ++k) {
@@ -1028,9 +660,6 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     lane_min_det[k] = T(1);
   }
   std::uint32_t bad = 0;
-  // The register pass (move_block) serves every pass with a gradient; the block arrays below
-  // remain for the reciprocal estimate and for positions alone.
-  const bool by_registers = kGradient && !t.fast_inverse_sqrt;
   const LaneExtremes<T> extremes{lane_min_det, lane_max_squared, &skip_lanes};
   // A contiguous pass batches across its blocks, by point index; a gathered one within each
   // block, into the block's copy.
@@ -1048,76 +677,24 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     const std::size_t n = std::min(kBlock, last - begin);
     const auto [x, y, z] = block_arrays<kContiguous>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
     float *nx = nullptr, *ny = nullptr, *nz = nullptr;
-    const auto normals = [&] {
+    if constexpr (kCarry) {
       const std::array<float*, 3> at =
           block_arrays<kContiguous>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
       nx = at[0];
       ny = at[1];
       nz = at[2];
-    };
-    if (by_registers) {
-      if constexpr (kCarry) normals();
-      if (journal && !aside) JournalWriter{*journal}.record<kContiguous>(index_of, begin, n, x, y, z, nx, ny, nz);
-      const PointArrays in_place{x, y, z, nx, ny, nz};
-      const PointArrays to = aside ? JournalWriter{*journal}.aside(begin, kCarry) : in_place;
-      bad |= move_block<T, kCarry, kBounded>(t, n, in_place, to, kContiguous ? begin : 0, extremes, lane_batch,
-                                             skips.skipped);
-      if constexpr (!kContiguous) {
-        lane_batch.flush(t, extremes, batch_bad);
-        copy_indexed<false>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
-        if constexpr (kCarry) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
-      }
-      continue;
     }
-    double bound = 0.0;
-    if constexpr (kBounded) bound = block_gradient_bound(t, x, y, z, n);
-    // A block whose bound passes keeps its normals as they are: they are neither read, nor
-    // journaled, nor checked (unchanged, they are as finite as they were). On a global bounded
-    // frame that is most blocks, and half the arrays a block would otherwise stream.
-    const bool skip_block = kBounded && bound <= static_cast<double>(t.skip_bound);
-    const bool normals_here = kCarry && !skip_block;
-    if (normals_here) normals();
-    if (journal && !aside) {
-      JournalWriter{*journal}.record<kContiguous>(index_of, begin, n, x, y, z, nx, ny, nz);
-    }
-    b.size = n;
-    b.qx = x;
-    b.qy = y;
-    b.qz = z;
-    // A bounded block over the tolerance first sums each point's bound with its displacement;
-    // unless most of its points need their gradient, those few are batched and the block moves.
-    bool exact = !skip_block;
-    if constexpr (kBounded) {
-      if (!skip_block) {
-        add_sources<T, false, true>(t, b, gb);
-        exact = most_need_gradient(t, b);
-        if (!exact) {
-          point_bounded_gradient<T, kCarry>(t, b, gb, kContiguous ? begin : 0, batch, lane_min_det, bad, skip_lanes);
-          if constexpr (!kContiguous) batch.flush(t, gb, lane_min_det, bad);
-          finish_block<T, false, false>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
-        }
-      }
-    }
-    if (skip_block) {
-      add_sources<T, false>(t, b, gb);
-      finish_block<T, false, false>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
-      skips.skipped += n;
-      skips.max_skipped_bound = std::max(skips.max_skipped_bound, bound);
-      const double floor = 1.0 - bound;
-      skips.min_det_floor = std::min(skips.min_det_floor, floor * floor * floor);
-    } else if (exact) {
-      add_sources<T, kGradient>(t, b, gb);
-      finish_block<T, kGradient, kCarry>(gb, b, n, x, y, z, nx, ny, nz, dets, lane_min_det, lane_max_squared);
-      if constexpr (kGradient) bad |= non_finite_bits(dets, n);
-    }
-    if (normals_here) bad |= non_finite_bits(nx, n) | non_finite_bits(ny, n) | non_finite_bits(nz, n);
-    bad |= non_finite_bits(x, n) | non_finite_bits(y, n) | non_finite_bits(z, n);
+    if (journal && !aside) JournalWriter{*journal}.record<kContiguous>(index_of, begin, n, x, y, z, nx, ny, nz);
+    const PointArrays in_place{x, y, z, nx, ny, nz};
+    const PointArrays to = aside ? JournalWriter{*journal}.aside(begin, kCarry) : in_place;
+    bad |= move_block<T, kGradient, kCarry, kBounded>(t, n, in_place, to, kContiguous ? begin : 0, extremes, lane_batch,
+                                                      skips.skipped);
     if constexpr (!kContiguous) {
+      lane_batch.flush(t, extremes, batch_bad);
       copy_indexed<false>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
-      if (normals_here) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
+      if constexpr (kCarry) copy_indexed<false>(index_of, begin, n, model.nx, model.ny, model.nz, gnx, gny, gnz);
     }
   }
-  if constexpr (kBounded) batch.flush(t, gb, lane_min_det, bad);
   lane_batch.flush(t, extremes, batch_bad);
   for (std::size_t j = 0; j < lanes::kCount<T>; ++j) bad |= static_cast<std::uint32_t>(batch_bad[j] != 0);
   if constexpr (kContiguous) {
@@ -1146,8 +723,7 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
   // A fused global pass writes its new values beside the old ones, in the journal's arrays, and
   // the two sets change places at the end: the journal then holds the old values without a copy
   // (a third of a global frame's memory traffic).
-  const bool aside = kContiguous && kGradient && !t.fast_inverse_sqrt && journal &&
-                     JournalWriter{*journal}.can_write_aside(model, kCarry);
+  const bool aside = kContiguous && journal && JournalWriter{*journal}.can_write_aside(model, kCarry);
   PassExtremes<T> e;
   if (!worker || count < kMinSplitPoints) {
     e = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(model, t, 0, count, index_of, journal, aside);

@@ -12,7 +12,7 @@
 #include <type_traits>
 #if defined(__SSE2__)
 // GCC 12 reports a false -Wmaybe-uninitialized (and -Wuninitialized) inside the unmasked AVX-512
-// square roots, which pass _mm512_undefined_ps() as the unused merge source (GCC bug 105593).
+// square roots and estimates, which pass _mm512_undefined_ps() as the unused merge source (GCC bug 105593).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC diagnostic ignored "-Wuninitialized"
@@ -140,6 +140,46 @@ inline V sqrt(V a) noexcept {
   V r;
   for (std::size_t j = 0; j < sizeof(V) / sizeof(T); ++j) r[j] = std::sqrt(a[j]);
   return r;
+}
+
+// 1/sqrt(x) in every lane from the processor's reciprocal square root estimate y, refined by one
+// Newton step y (3/2 - (x/2) y^2) (FieldOptions::fast_inverse_sqrt; inverse_sqrt.cpp derives the
+// error bound). A lane that is not a normal positive float gets the exact 1 / sqrt(x) instead:
+// the estimate is not reliable there, and such a lane all but never occurs (a point at a source
+// with no regularisation, or a value that is not finite), so it is a branch, not a select.
+inline Value<float> inverse_sqrt_estimate(Value<float> x) noexcept {
+  using V = Value<float>;
+  V y;
+#if defined(__AVX512F__)
+  y = _mm512_rsqrt14_ps(x);
+#elif defined(__AVX__)
+  y = _mm256_rsqrt_ps(x);
+#elif defined(__SSE__)
+  y = _mm_rsqrt_ps(x);
+#else
+  for (std::size_t j = 0; j < kCount<float>; ++j) y[j] = 1.0f / std::sqrt(x[j]);
+  return y;
+#endif
+  const V half_xy = (splat<V>(0.5f) * x) * y;
+#if defined(__FMA__) || defined(__AVX512F__)
+  V refined = y * fma(-half_xy, y, splat<V>(1.5f));
+#else
+  V refined = y * (splat<V>(1.5f) - half_xy * y);
+#endif
+  // Read as signed integers, the normal positive floats are exactly 0x00800000 .. 0x7f7fffff.
+  typename LaneTypes<float>::Bits bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const auto outside = (bits < 0x00800000) | (bits > 0x7f7fffff);
+  std::uint64_t words[kBytes / 8];
+  std::memcpy(words, &outside, sizeof words);
+  std::uint64_t any = 0;
+  for (const std::uint64_t w : words) any |= w;
+  if (any != 0) {
+    for (std::size_t j = 0; j < kCount<float>; ++j) {
+      if (outside[j] != 0) refined[j] = 1.0f / std::sqrt(x[j]);
+    }
+  }
+  return refined;
 }
 
 // Lanes all of whose exponent bits are set (infinite or NaN): all ones there, zero elsewhere.

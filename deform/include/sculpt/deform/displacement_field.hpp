@@ -67,10 +67,6 @@ class UndoJournal {
   // points is recorded with straight copies.
   std::vector<std::uint32_t> index_;
   std::vector<float> x_, y_, z_, nx_, ny_, nz_;
-  // Per block of the pass's slots (the displacement loop's blocks): whether its normals were
-  // recorded. A bounded block pass neither changes nor records the normals of the blocks it
-  // skips (a pass writing aside records every block's).
-  std::vector<std::uint8_t> block_normals_;
   std::size_t count_ = 0;
   bool normals_ = false;
   bool contiguous_ = false;        // the recorded points are 0 .. count_ - 1: index_ is not written

@@ -16,7 +16,7 @@ inline constexpr double kInverseSqrtEstimateError = 0x1p-21;
 /// 1.0f / std::sqrt(x) (the estimate is not reliable there). No allocation.
 void inverse_sqrt_estimate(float* values, std::size_t n) noexcept;
 
-/// The estimate this build uses: "AVX-512 rsqrt14", "SSE rsqrt", or "none" where
+/// The estimate this build uses: "AVX-512 rsqrt14", "AVX rsqrt", "SSE rsqrt", or "none" where
 /// the target has none (every value is then the exact 1.0f / std::sqrt(x)).
 const char* inverse_sqrt_estimate_kind() noexcept;
 
