@@ -33,7 +33,7 @@ Expected brute_force(const PointModel& model, const std::vector<Vec3>& contacts,
 }
 
 TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
-  // 40,000 points: indices need two of the sort's passes (of 8 bits each).
+  // 40,000 points: the region's set spans ten summary words (PointSet).
   const PointModel model = make_sphere(40000);
   const PointIndex index(model);
   RegionSettings settings;
@@ -42,8 +42,8 @@ TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
   const double bc_radius = 0.02;
   Region region(settings, model, index, bc_radius);
   // Two overlapping balls and one apart: overlapping points must appear once. Balls all apart
-  // (no two centres within twice the radius) take the build's shortcut: one pass per ball, no
-  // flags, the band sorted on its own; the last frame is apart by a hair more than that.
+  // (no two centres within twice the radius) take the build's shortcut: the band decided ball
+  // by ball; the last frame is apart by a hair more than that.
   const Vec3 near_pole = model.position(100);
   const Vec3 just_apart = near_pole + normalized(Vec3{1, 1, 0}) * (2.0 * settings.radius * (1.0 + 1e-6));
   const std::vector<std::vector<Vec3>> frames = {

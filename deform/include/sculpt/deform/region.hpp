@@ -8,6 +8,7 @@
 
 #include "sculpt/deform/point_index.hpp"
 #include "sculpt/deform/point_model.hpp"
+#include "sculpt/deform/point_set.hpp"
 
 namespace sculpt::deform {
 
@@ -58,7 +59,7 @@ class Region {
   std::vector<std::uint32_t> points_;
   std::vector<std::uint32_t> border_;
   std::vector<std::uint32_t> scratch_;
-  std::vector<std::uint8_t> member_;  // per-point flag, kept all-zero between frames
+  PointSet found_, band_found_;  // empty between frames
 };
 
 }  // namespace sculpt::deform
