@@ -1,6 +1,5 @@
 #include "sculpt/deform/displacement_field.hpp"
 
-#include "sculpt/deform/inverse_sqrt.hpp"
 #include "lane_vector.hpp"
 
 #include <algorithm>
@@ -28,7 +27,7 @@ struct SourceTable {
   std::array<T, kMaxSources> bound_r2{}, bound_r4{};
   T alpha{}, beta{}, gamma{}, eps2{};
   T skip_bound{};  // 0: every gradient is computed
-  // FieldOptions::fast_inverse_sqrt: 1/r from inverse_sqrt_estimate() (float only).
+  // FieldOptions::fast_inverse_sqrt: 1/r from lanes::inverse_sqrt_estimate() (float only).
   bool fast_inverse_sqrt = false;
 };
 
@@ -137,7 +136,8 @@ template <typename T, bool kGradient, typename U>
   }
 }
 
-// det(I + grad u) from the gradient g of a register of points (U: lanes of T) and, when `kCarry`, the normal (n0, n1, n2) carried by Nanson's formula (MATH.md §6):
+// det(I + grad u) from the gradient g of a register of points (U: lanes of T) and, when
+// `kCarry`, the normal (n0, n1, n2) carried by Nanson's formula (MATH.md §6):
 // n' = normalize(cof(Fg) n), cof(Fg) = det(Fg) Fg^-T. The cofactor is used as it is: where the
 // frame folded (det <= 0) no normal formula is meaningful, and the fold guard rejects the frame
 // before anyone reads that normal.
