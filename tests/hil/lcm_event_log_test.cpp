@@ -132,18 +132,29 @@ TEST_F(EventLogHil, EveryCollisionIsInTheDurableLogAndOnTheLiveChannel) {
               durable.at(logging::kCollisionChannel), captured.size());
 }
 
+// A minute of real time in the Release pass. The sanitizer passes run the same code paths for a
+// quarter of it: their findings come from what runs, not from how long, and the two minutes saved
+// keep the test command inside its budget.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr int kLongRunSeconds = 15;
+#else
+constexpr int kLongRunSeconds = 60;
+#endif
+
 TEST_F(EventLogHil, AMinuteOfFiveFingersAtOneKilohertzLosesNothing) {
   const fs::path scene = scene_in(dir_, "sphere-five", "");
-  test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "60", "--quiet"}, dir_ / "run.txt");
+  test::ChildProcess run(
+      {SCULPT_BINARY, "run", scene.string(), "--duration", std::to_string(kLongRunSeconds), "--quiet"},
+      dir_ / "run.txt");
   ASSERT_EQ(run.wait(std::chrono::seconds(180)), 0) << slurp(dir_ / "run.txt");
   const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "sphere-five.json"));
   const auto& log = r["recording"]["log"];
-  std::printf("[ log ] 60 s: %s\n", r["recording"].dump().c_str());
+  std::printf("[ log ] %d s: %s\n", kLongRunSeconds, r["recording"].dump().c_str());
   EXPECT_EQ(log["dropped"].get<int>(), 0);
   EXPECT_EQ(log["write_errors"].get<int>(), 0);
   const auto durable = count_channels(dir_ / "sphere-five.lcmlog");
   EXPECT_EQ(durable.at(logging::kTickChannel), r["ticks"].get<std::size_t>());
-  EXPECT_GT(r["ticks"].get<double>(), 30000.0);  // gross failure only: a shared machine
+  EXPECT_GT(r["ticks"].get<double>(), 500.0 * kLongRunSeconds);  // gross failure only: a shared machine
   EXPECT_EQ(durable.at(logging::kCollisionChannel), r["collisions"].get<std::size_t>());
   EXPECT_EQ(durable.at(logging::kGloveChannel), r["samples_taken"].get<std::size_t>());
 }
