@@ -453,9 +453,7 @@ std::uint32_t move_block(const SourceTable<T>& t, std::size_t n, const PointArra
     for (int a = 0; a < arrays; ++a) std::copy_n(copy[a], n - k, out[a] + k);
     if (batch.size() >= kWidth) batch.flush_register(t, extremes, bad);
   }
-  std::uint32_t any = 0;
-  for (std::size_t j = 0; j < kWidth; ++j) any |= static_cast<std::uint32_t>(bad[j] != 0);
-  return any;
+  return lanes::any(bad) ? 1u : 0u;
 }
 
 }  // namespace

@@ -142,6 +142,17 @@ inline V sqrt(V a) noexcept {
   return r;
 }
 
+// Whether any lane of a comparison's result (all ones or zero per lane) is set: one OR over
+// the register's 64-bit words, with no branch per lane.
+template <typename Bits>
+inline bool any(Bits mask) noexcept {
+  std::uint64_t words[sizeof(Bits) / 8];
+  std::memcpy(words, &mask, sizeof words);
+  std::uint64_t set = 0;
+  for (const std::uint64_t w : words) set |= w;
+  return set != 0;
+}
+
 // 1/sqrt(x) in every lane from the processor's reciprocal square root estimate y, refined by one
 // Newton step y (3/2 - (x/2) y^2) (FieldOptions::fast_inverse_sqrt; inverse_sqrt.cpp derives the
 // error bound). A lane that is not a normal positive float gets the exact 1 / sqrt(x) instead:
@@ -170,11 +181,7 @@ inline Value<float> inverse_sqrt_estimate(Value<float> x) noexcept {
   typename LaneTypes<float>::Bits bits;
   std::memcpy(&bits, &x, sizeof bits);
   const auto outside = (bits < 0x00800000) | (bits > 0x7f7fffff);
-  std::uint64_t words[kBytes / 8];
-  std::memcpy(words, &outside, sizeof words);
-  std::uint64_t any = 0;
-  for (const std::uint64_t w : words) any |= w;
-  if (any != 0) {
+  if (any(outside)) {
     for (std::size_t j = 0; j < kCount<float>; ++j) {
       if (outside[j] != 0) refined[j] = 1.0f / std::sqrt(x[j]);
     }

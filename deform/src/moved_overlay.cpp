@@ -32,22 +32,11 @@ std::size_t MovedOverlay::list(std::uint32_t i) noexcept {
   return count_;
 }
 
-void MovedOverlay::add(const PointModel& model, std::uint32_t i) noexcept {
-  const std::size_t s = list(i);
-  if (s == 0) return;
-  Box& b = boxes_[(s - 1) / kBlock];
-  const float p[3] = {model.x[i], model.y[i], model.z[i]};
-  for (int d = 0; d < 3; ++d) {
-    b.low[d] = std::min(b.low[d], p[d]);
-    b.high[d] = std::max(b.high[d], p[d]);
-  }
-}
-
 void MovedOverlay::note(const PointModel& model, std::span<const std::uint32_t> points) noexcept {
-  // add()'s work, with the box being grown held in registers until the slots move on to the
-  // next block: growing it in memory point by point made each minimum wait on the store before
-  // it, and that chain was most of the time (a region frame notes thousands of points, new
-  // ones in consecutive slots).
+  // Each listed point grows its block's box. The box being grown is held in registers until the
+  // slots move on to the next block: growing it in memory point by point made each minimum wait
+  // on the store before it, and that chain was most of the time (a region frame notes thousands
+  // of points, new ones in consecutive slots).
   constexpr float kInf = std::numeric_limits<float>::infinity();
   constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
   std::size_t open = kNone;

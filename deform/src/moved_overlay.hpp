@@ -57,8 +57,8 @@ class MovedOverlay {
     }
     count_ = 0;
     reset_boxes();
-    const std::size_t listed = kept;
-    for (std::size_t s = 0; s < listed; ++s) add(model, ids_[s]);
+    // Listed again in the same order, each into the slot it is read from.
+    note(model, std::span<const std::uint32_t>(ids_.data(), kept));
   }
 
   /// Whether every moved point is listed (otherwise queries must fall back on the drift).
@@ -87,7 +87,6 @@ class MovedOverlay {
   };
   /// Lists point i if it is not yet listed; its slot + 1, or 0 when the list overflowed.
   std::size_t list(std::uint32_t i) noexcept;
-  void add(const PointModel& model, std::uint32_t i) noexcept;
   void reset_boxes() noexcept;
   static double box_squared_distance(const Box& b, const double* q) noexcept;
 
