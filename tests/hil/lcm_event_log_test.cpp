@@ -51,6 +51,17 @@ std::map<std::string, std::size_t> count_channels(const fs::path& path) {
   return counts;
 }
 
+// Whether a log being written holds a tick record yet (false while it does not exist).
+bool has_tick(const fs::path& path) {
+  if (!fs::exists(path)) return false;
+  logging::EventLogReader reader(path.string());
+  logging::LogEvent event;
+  while (reader.next(event) == logging::EventLogReader::Result::kEvent) {
+    if (event.channel == logging::kTickChannel) return true;
+  }
+  return false;
+}
+
 // Every payload on one channel, as bytes, in file order.
 std::multiset<std::string> payloads_on(const fs::path& path, const std::string& channel) {
   std::multiset<std::string> payloads;
@@ -164,14 +175,22 @@ TEST_F(EventLogHil, StockLogplayerDrivesTheStationThroughItsLcmBackend) {
   test::ChildProcess record({SCULPT_BINARY, "run", scene.string(), "--duration", "4", "--quiet"}, dir_ / "record.txt");
   ASSERT_EQ(record.wait(), 0) << slurp(dir_ / "record.txt");
   const nlohmann::json recorded = nlohmann::json::parse(slurp(dir_ / "sphere-press.json"));
-  // The playback run writes its own log at the scene's path: play a copy of the recording.
-  fs::copy_file(dir_ / "sphere-press.lcmlog", dir_ / "recorded.lcmlog");
+  // The playback run writes its own log at the scene's path: play the recording from elsewhere.
+  const fs::path own_log = dir_ / "sphere-press.lcmlog";
+  fs::rename(own_log, dir_ / "recorded.lcmlog");
 
   const std::string url = unique_url(1);
   test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--lcm", url, "--duration", "7", "--quiet", "--json",
                           (dir_ / "played.json").string(), "--out", (dir_ / "played.ply").string()},
                          dir_ / "run.txt");
-  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  // Samples played before the station has subscribed are lost, and a fixed 0.7 s was once too
+  // short for a ThreadSanitizer build to start: play once its loop ticks (its first tick in its
+  // own log; the glove source subscribes before the loop starts).
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!has_tick(own_log) && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(has_tick(own_log)) << "the station did not start in 60 s: " << slurp(dir_ / "run.txt");
   test::ChildProcess player({"lcm-logplayer", "--lcm-url=" + url, (dir_ / "recorded.lcmlog").string()},
                             dir_ / "player.txt");
   ASSERT_TRUE(player.started());
