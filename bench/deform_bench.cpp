@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,18 +66,10 @@ std::vector<ProbeMotion> spread_probes(const PointModel& m, std::size_t fingers,
   return probes;
 }
 
-void frame(benchmark::State& state, const std::string& name, Precision precision, double region_spacings,
-           int threads = 1, double normal_skip_bound = 0.0, bool fast_inverse_sqrt = false) {
-  const PointModel* source = load(name);
-  if (!source) {
-    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
-    return;
-  }
-  const std::size_t fingers = static_cast<std::size_t>(state.range(0));
-  const double heap_before = heap_bytes();
-  PointModel model = *source;
+// The settings every frame here runs with, scaled to the model's spacing.
+DeformSettings bench_settings(double spacing, Precision precision, double region_spacings, int threads = 1,
+                              double normal_skip_bound = 0.0, bool fast_inverse_sqrt = false) {
   DeformSettings settings;
-  const double spacing = typical_spacing(model, PointIndex(model)).value;
   settings.contact.bc_radius = spacing;
   settings.contact.min_source_distance = 0.25 * spacing;
   settings.contact.guard_distance = 1.5 * spacing;
@@ -89,6 +82,22 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
     settings.region.kind = RegionSettings::Kind::kRadius;
     settings.region.radius = region_spacings * spacing;
   }
+  return settings;
+}
+
+void frame(benchmark::State& state, const std::string& name, Precision precision, double region_spacings,
+           int threads = 1, double normal_skip_bound = 0.0, bool fast_inverse_sqrt = false) {
+  const PointModel* source = load(name);
+  if (!source) {
+    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
+    return;
+  }
+  const std::size_t fingers = static_cast<std::size_t>(state.range(0));
+  const double heap_before = heap_bytes();
+  PointModel model = *source;
+  const double spacing = typical_spacing(model, PointIndex(model)).value;
+  const DeformSettings settings =
+      bench_settings(spacing, precision, region_spacings, threads, normal_skip_bound, fast_inverse_sqrt);
   Deformer deformer(model, settings);
   // The model's arrays and everything the deformer reserved (index, journal, buffers).
   const double bytes_per_point = (heap_bytes() - heap_before) / static_cast<double>(model.size());
@@ -123,6 +132,79 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   state.counters["bytes/point"] = bytes_per_point;
   state.counters["moved"] = static_cast<double>(moved);
   if (normal_skip_bound > 0.0) state.counters["normals_kept"] = static_cast<double>(normals_kept);
+  state.counters["frames/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+// A stroke, as the station runs one: every finger pressed half a spacing in, then slid half a
+// spacing a frame along the plane tangent at its start, a quarter of a spacing deeper each frame
+// (a twentieth, as sculpt check's slide, left most fingers above the dent their last frame made:
+// guarded, not pressing). Each frame deforms the one before's output, from where the deformer
+// left each finger; on a curved scan some fingers leave the surface, so the row reports the
+// collisions per frame. The model is restored (untimed) every kStrokeFrames frames. The
+// single-press rows restore it before every frame, so each of their frames finds the index, the
+// region's points and the buffers out of the caches; here, as in the station, all but a
+// stroke's first frame find them where the frame before left them.
+void stroke(benchmark::State& state, const std::string& name, double region_spacings) {
+  constexpr int kStrokeFrames = 16;
+  const PointModel* source = load(name);
+  if (!source) {
+    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
+    return;
+  }
+  const std::size_t fingers = static_cast<std::size_t>(state.range(0));
+  PointModel model = *source;
+  const double spacing = typical_spacing(model, PointIndex(model)).value;
+  Deformer deformer(model, bench_settings(spacing, Precision::kFloat, region_spacings));
+  // Each finger's surface point a, its outward normal n and a direction t along the surface.
+  std::vector<Vec3> at, out, along;
+  for (const ProbeMotion& m : spread_probes(*source, fingers, spacing)) {
+    const Vec3 n = normalized(m.previous - m.current);
+    const Vec3 a = m.current + n * spacing;
+    const Vec3 axis = std::abs(n.x) < 0.5 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    at.push_back(a);
+    out.push_back(n);
+    along.push_back(normalized(cross(n, axis)));
+  }
+  std::vector<ProbeMotion> motions(fingers);
+  std::vector<Vec3> accepted(fingers);
+  std::vector<std::optional<Vec3>> earlier(fingers);
+  int k = kStrokeFrames;
+  std::size_t frames = 0, collisions = 0, moved = 0, applied = 0;
+  for (auto _ : state) {
+    if (k == kStrokeFrames) {
+      state.PauseTiming();
+      deformer.restore(*source);
+      for (std::size_t f = 0; f < fingers; ++f) {
+        accepted[f] = at[f] + out[f] * (2.0 * spacing);
+        earlier[f].reset();
+      }
+      k = 0;
+      state.ResumeTiming();
+    }
+    for (std::size_t f = 0; f < fingers; ++f) {
+      const Vec3 target = at[f] + along[f] * (0.5 * spacing * k) - out[f] * ((0.5 + 0.25 * k) * spacing);
+      motions[f] = ProbeMotion{accepted[f], target, earlier[f]};
+    }
+    const FrameReport& r = deformer.deform(motions);
+    benchmark::DoNotOptimize(model.x.data());
+    for (std::size_t f = 0; f < fingers; ++f) {
+      const ContactReport& c = r.contacts[f];
+      earlier[f] = accepted[f];
+      accepted[f] = c.state == ProbeState::kDropped ? motions[f].current : c.probe_after;
+    }
+    ++frames;
+    ++k;
+    collisions += r.collisions;
+    moved += r.region_points;
+    applied += deformer.frames().size();
+  }
+  if (collisions == 0) state.SkipWithError("no finger collided");
+  const double per_frame = frames > 0 ? 1.0 / static_cast<double>(frames) : 0.0;
+  state.counters["points"] = static_cast<double>(model.size());
+  state.counters["moved"] = static_cast<double>(moved) * per_frame;
+  state.counters["collisions/frame"] = static_cast<double>(collisions) * per_frame;
+  // Above 1 when frames were split into substeps (a fold averted), below when some moved nothing.
+  state.counters["applied/frame"] = static_cast<double>(applied) * per_frame;
   state.counters["frames/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
@@ -341,6 +423,12 @@ void register_all() {
           ->Arg(1)
           ->Arg(5)
           ->Unit(ms);
+      if (p == Precision::kFloat) {
+        RegisterBenchmark(("Scan/" + name + "/region20_stroke/" + tag).c_str(),
+                          [name](benchmark::State& s) { stroke(s, name, 20.0); })
+            ->Arg(5)
+            ->Unit(ms);
+      }
     }
   }
 }
