@@ -441,7 +441,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   const FieldResult moved = apply_displacements(model_, settings_.kernel, forces_, region_.points(), region_.global(),
                                                 settings_.field, /*jacobian=*/true, &journal_, worker_.get());
   // The index must hear of every position written, the undo's included (its exactness).
-  const auto positions_written = [&] { index_.note_moved(model_, region_.points(), region_.global()); };
+  const auto positions_written = [&] { index_.note_moved(model_, region_.points_as_found(), region_.global()); };
   positions_written();
   r.min_jacobian = moved.min_jacobian;
   if (!moved.finite) {

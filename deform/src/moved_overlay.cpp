@@ -9,13 +9,15 @@ MovedOverlay::MovedOverlay(std::size_t model_size, std::size_t capacity)
     : slot_(model_size, 0),
       listed_((model_size + 63) / 64, 0),
       ids_(std::min(capacity, model_size)),
-      boxes_((ids_.size() + kBlock - 1) / kBlock) {
+      boxes_((ids_.size() + kBlock - 1) / kBlock),
+      groups_((boxes_.size() + kGroup - 1) / kGroup) {
   reset_boxes();
 }
 
 void MovedOverlay::reset_boxes() noexcept {
   constexpr float kInf = std::numeric_limits<float>::infinity();
   for (Box& b : boxes_) b = Box{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
+  for (Box& b : groups_) b = Box{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
 }
 
 std::size_t MovedOverlay::list(std::uint32_t i) noexcept {
@@ -44,9 +46,12 @@ void MovedOverlay::note(const PointModel& model, std::span<const std::uint32_t> 
   auto flush = [&] {
     if (open == kNone) return;
     Box& b = boxes_[open];
+    Box& g = groups_[open / kGroup];
     for (int d = 0; d < 3; ++d) {
       b.low[d] = std::min(b.low[d], low[d]);
       b.high[d] = std::max(b.high[d], high[d]);
+      g.low[d] = std::min(g.low[d], low[d]);
+      g.high[d] = std::max(g.high[d], high[d]);
     }
   };
   for (std::uint32_t i : points) {
@@ -101,9 +106,7 @@ double MovedOverlay::box_squared_distance(const Box& b, const double* q) noexcep
 
 void MovedOverlay::nearest(const PointModel& model, const double* q, std::uint32_t& best,
                            double& best_squared) const noexcept {
-  for (std::size_t first = 0; first < count_; first += kBlock) {
-    if (box_squared_distance(boxes_[first / kBlock], q) > best_squared) continue;
-    const std::size_t last = std::min(first + kBlock, count_);
+  for_each_block_near(q, best_squared, [&](std::size_t first, std::size_t last) {
     for (std::size_t s = first; s < last; ++s) {
       const std::uint32_t i = ids_[s];
       const double d2 = current_squared_distance(model, i, q);
@@ -112,15 +115,13 @@ void MovedOverlay::nearest(const PointModel& model, const double* q, std::uint32
         best = i;
       }
     }
-  }
+  });
 }
 
 bool MovedOverlay::within_radius(const PointModel& model, const double* q, double radius_squared,
                                  std::vector<std::uint32_t>& out) const noexcept {
   bool complete = true;
-  for (std::size_t first = 0; first < count_; first += kBlock) {
-    if (box_squared_distance(boxes_[first / kBlock], q) > radius_squared) continue;
-    const std::size_t last = std::min(first + kBlock, count_);
+  for_each_block_near(q, radius_squared, [&](std::size_t first, std::size_t last) {
     for (std::size_t s = first; s < last; ++s) {
       const std::uint32_t i = ids_[s];
       if (current_squared_distance(model, i, q) > radius_squared) continue;
@@ -130,7 +131,7 @@ bool MovedOverlay::within_radius(const PointModel& model, const double* q, doubl
         complete = false;
       }
     }
-  }
+  });
   return complete;
 }
 

@@ -8,6 +8,7 @@
 // few spacings deep (a two-million-point sphere: 41 % of the loop's time was such queries),
 // and the rebuild that would reset the drift takes a second or more at that size.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -82,9 +83,27 @@ class MovedOverlay {
   // listed (it only grows, so it covers every position a listed point has had): a query skips
   // a block whose box is farther than its bound.
   static constexpr std::size_t kBlock = 32;
+  // Blocks in groups of this many, each with a box around its blocks' boxes: a query far from
+  // a frame's region skips its blocks a group at a time (a stroke lists thousands of points,
+  // and nearest() is asked dozens of times a frame).
+  static constexpr std::size_t kGroup = 32;
   struct Box {
     float low[3], high[3];
   };
+  /// Calls visit(first, last) for the slot ranges of the blocks whose box comes within
+  /// sqrt(bound) of q (bound read afresh for each: a nearest search tightens it as it goes).
+  template <class Visit>
+  void for_each_block_near(const double* q, const double& bound, Visit visit) const noexcept {
+    constexpr std::size_t kGroupSlots = kBlock * kGroup;
+    for (std::size_t group = 0; group < count_; group += kGroupSlots) {
+      if (box_squared_distance(groups_[group / kGroupSlots], q) > bound) continue;
+      const std::size_t group_end = std::min(group + kGroupSlots, count_);
+      for (std::size_t first = group; first < group_end; first += kBlock) {
+        if (box_squared_distance(boxes_[first / kBlock], q) > bound) continue;
+        visit(first, std::min(first + kBlock, count_));
+      }
+    }
+  }
   /// Lists point i if it is not yet listed; its slot + 1, or 0 when the list overflowed.
   std::size_t list(std::uint32_t i) noexcept;
   void reset_boxes() noexcept;
@@ -94,6 +113,7 @@ class MovedOverlay {
   std::vector<std::uint64_t> listed_;  // the same as bits (what a query reads: 1/32 the memory)
   std::vector<std::uint32_t> ids_;     // the listed points, slot order
   std::vector<Box> boxes_;             // one per block of kBlock slots
+  std::vector<Box> groups_;            // one per kGroup blocks
   std::size_t count_ = 0;
   bool overflowed_ = false;
 };

@@ -45,6 +45,7 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
   points_.reserve(n);
   border_.reserve(n);
   scratch_.reserve(n);
+  if (settings_.kind == Kind::kRadius) as_found_.reserve(n);
   if (settings_.kind == Kind::kRadius) {
     found_ = PointSet(n);
     band_found_ = PointSet(n);
@@ -74,6 +75,16 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   if (settings_.kind != RegionSettings::Kind::kRadius) return;  // fixed for the others
   points_.clear();
   border_.clear();
+  as_found_.clear();
+  as_found_complete_ = true;
+  // Overlapping balls repeat points: past the reserve the order is dropped, not grown.
+  const auto keep_as_found = [&] {
+    if (as_found_.size() + scratch_.size() <= as_found_.capacity()) {
+      as_found_.insert(as_found_.end(), scratch_.begin(), scratch_.end());
+    } else {
+      as_found_complete_ = false;
+    }
+  };
   const double inner = settings_.radius - border_width_;
   const double inner_squared = inner * inner;
   if (balls_apart(contacts, settings_.radius)) {
@@ -81,6 +92,7 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
     // the band is decided as each ball's points come, without a test against every contact.
     for (const Vec3& c : contacts) {
       index.within_radius(model, c, settings_.radius, scratch_, drift, /*ascending=*/false);
+      keep_as_found();
       for (std::uint32_t i : scratch_) {
         found_.insert(i);
         if (!(squared_norm(model.position(i) - c) <= inner_squared)) band_found_.insert(i);
@@ -94,6 +106,7 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   // not deeper than the border width inside any ball.
   for (const Vec3& c : contacts) {
     index.within_radius(model, c, settings_.radius, scratch_, drift, /*ascending=*/false);
+    keep_as_found();
     for (std::uint32_t i : scratch_) found_.insert(i);
   }
   found_.drain(points_);

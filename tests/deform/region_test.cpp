@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -61,7 +62,19 @@ TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
     ASSERT_FALSE(e.points.empty());
     EXPECT_EQ(std::vector<std::uint32_t>(region.points().begin(), region.points().end()), e.points);
     EXPECT_EQ(std::vector<std::uint32_t>(region.border().begin(), region.border().end()), e.border);
+    // The order the index is told of them in: the same set, repeats allowed.
+    std::vector<std::uint32_t> as_found(region.points_as_found().begin(), region.points_as_found().end());
+    std::sort(as_found.begin(), as_found.end());
+    as_found.erase(std::unique(as_found.begin(), as_found.end()), as_found.end());
+    EXPECT_EQ(as_found, e.points);
   }
+  // Balls that each hold the whole sphere repeat every point: past the reserve (one model's
+  // worth) the found order is dropped and the ascending points stand in for it.
+  region.set_radius(3.0);
+  region.build(model, index, 0.0, std::vector<Vec3>{model.position(100), model.position(20000)});
+  ASSERT_EQ(region.points().size(), model.size());
+  EXPECT_EQ(region.points_as_found().data(), region.points().data());
+  EXPECT_EQ(region.points_as_found().size(), model.size());
 }
 
 }  // namespace

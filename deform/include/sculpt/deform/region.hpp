@@ -44,6 +44,14 @@ class Region {
   bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal; }
   /// Points that move, ascending (empty for a global region: then all points move).
   std::span<const std::uint32_t> points() const { return points_; }
+  /// The same points in the order the index's queries found them (near one another in space,
+  /// with repeats where balls overlap), or points() when that order was not kept. For the
+  /// index's list of moved points, which skips its blocks by their bounding boxes: listed in
+  /// ascending index order, one block held points from across the region and every query
+  /// near it scanned them all (a quarter of a stroke's region frame).
+  std::span<const std::uint32_t> points_as_found() const {
+    return as_found_complete_ ? std::span<const std::uint32_t>(as_found_) : points();
+  }
   /// Points of the pinned band, ascending; a subset of points().
   std::span<const std::uint32_t> border() const { return border_; }
   const RegionSettings& settings() const { return settings_; }
@@ -59,7 +67,9 @@ class Region {
   std::vector<std::uint32_t> points_;
   std::vector<std::uint32_t> border_;
   std::vector<std::uint32_t> scratch_;
-  PointSet found_, band_found_;  // empty between frames
+  std::vector<std::uint32_t> as_found_;  // the queries' results, one after another
+  bool as_found_complete_ = false;       // as_found_ holds every point of points_
+  PointSet found_, band_found_;          // empty between frames
 };
 
 }  // namespace sculpt::deform
