@@ -137,7 +137,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
 
 // A stroke, as the station runs one: every finger pressed half a spacing in, then slid half a
 // spacing a frame along the plane tangent at its start, a quarter of a spacing deeper each frame
-// (a twentieth, as sculpt check's slide, left most fingers above the dent their last frame made:
+// (a twentieth, as sculpt check's slide, left half the fingers above the dent their last frame made:
 // guarded, not pressing). Each frame deforms the one before's output, from where the deformer
 // left each finger; on a curved scan some fingers leave the surface, so the row reports the
 // collisions per frame. The model is restored (untimed) every kStrokeFrames frames. The
