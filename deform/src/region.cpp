@@ -45,8 +45,8 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
   points_.reserve(n);
   border_.reserve(n);
   scratch_.reserve(n);
-  if (settings_.kind == Kind::kRadius) as_found_.reserve(n);
   if (settings_.kind == Kind::kRadius) {
+    as_found_.reserve(n);
     found_ = PointSet(n);
     band_found_ = PointSet(n);
   }
