@@ -51,9 +51,10 @@ double side_smoothing(const PointModel& model, const PointIndex& index, double b
 }
 
 SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift, const Vec3& probe,
-                   const ContactSettings& settings, double smoothing, std::vector<std::uint32_t>& neighbours) noexcept {
+                   const ContactSettings& settings, double smoothing, std::vector<std::uint32_t>& neighbours,
+                   std::uint32_t hint) noexcept {
   SurfaceSide s;
-  const PointIndex::Nearest near = index.nearest(model, probe, drift);
+  const PointIndex::Nearest near = index.nearest(model, probe, drift, hint);
   s.nearest = near.index;
   s.distance = near.distance;
   if (near.index == PointIndex::kNoPoint) return s;

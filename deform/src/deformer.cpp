@@ -113,6 +113,7 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   contact_neighbourhood_.reserve(settings_.max_probes * patch);
   patch_area_scale_.assign(settings_.max_probes, 1.0);
   neighbourhood_begin_.resize(settings_.max_probes + 1);
+  probe_hints_.assign(settings_.max_probes, PointIndex::kNoPoint);
   // Each point can be a condition once per contact or guard neighbourhood and once in the band;
   // a frame needing more than this grows the vector once and keeps it.
   conditions_.reserve(settings_.max_probes * patch + n);
@@ -237,8 +238,8 @@ void Deformer::compute_tractions(FrameReport& r) noexcept {
   }
 }
 
-SurfaceSide Deformer::locate_probe(const Vec3& probe) noexcept {
-  return locate(model_, index_, drift_, probe, settings_.contact, side_smoothing_, side_neighbours_);
+SurfaceSide Deformer::locate_probe(const Vec3& probe, std::uint32_t hint) noexcept {
+  return locate(model_, index_, drift_, probe, settings_.contact, side_smoothing_, side_neighbours_, hint);
 }
 
 Vec3 Deformer::outward(std::uint32_t point) const noexcept {
@@ -258,7 +259,7 @@ Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, const Ve
   // Float positions: a source exactly at the clearance may measure a hair closer.
   auto aloneness = [&](const Vec3& p) {
     const double needed = std::max(clearance, kSourceAloneRatio * norm(p - contact));
-    return index_.nearest(model_, p, drift_).distance / (needed * (1.0 - 1e-6));
+    return index_.nearest(model_, p, drift_, nearest).distance / (needed * (1.0 - 1e-6));
   };
   if (aloneness(candidate) >= 1.0) return candidate;
   // MATH.md §4 and §6: a source next to any model point makes that point's displacement
@@ -302,10 +303,11 @@ void Deformer::keep_probes_outside(std::span<const ProbeMotion> probes, FrameRep
   for (std::size_t p = 0; p < probes.size(); ++p) {
     ContactReport& c = r.contacts[p];
     if (c.state == ProbeState::kDropped) continue;
-    const SurfaceSide after = locate_probe(probes[p].current);
+    const SurfaceSide after = locate_probe(probes[p].current, probe_hints_[p]);
     c.side_after = after.side;
     c.probe_after = probes[p].current;
     if (after.nearest == PointIndex::kNoPoint) continue;
+    probe_hints_[p] = after.nearest;
     const double depth = cs.mode == ContactMode::kPush ? -after.side : after.side;  // > 0 across
     const bool free_finger = c.state == ProbeState::kFree || c.state == ProbeState::kGuarded;
     if (c.state == ProbeState::kCollided) c.miss = std::max(0.0, depth);
@@ -317,7 +319,7 @@ void Deformer::keep_probes_outside(std::span<const ProbeMotion> probes, FrameRep
     c.probe_after = model_.position(after.nearest) + outward(after.nearest) * cs.min_source_distance;
     c.pushed_out = true;
     ++r.guards.pushed_out;
-    c.side_after = locate_probe(c.probe_after).side;
+    c.side_after = locate_probe(c.probe_after, after.nearest).side;
   }
   r.max_miss = 0.0;
   for (std::size_t p = 0; p < probes.size(); ++p) r.max_miss = std::max(r.max_miss, r.contacts[p].miss);
@@ -347,12 +349,13 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
     ContactReport& c = r.contacts[p];
     c = ContactReport{};
     neighbourhood_begin_[p] = contact_neighbourhood_.size();
-    const SurfaceSide now = probe_usable(probes[p]) ? locate_probe(probes[p].current) : SurfaceSide{};
+    const SurfaceSide now = probe_usable(probes[p]) ? locate_probe(probes[p].current, probe_hints_[p]) : SurfaceSide{};
     if (now.nearest == PointIndex::kNoPoint) {
       c.state = ProbeState::kDropped;
       ++r.guards.probe_dropped;
       continue;
     }
+    probe_hints_[p] = now.nearest;
     c.nearest = now.nearest;
     c.distance = now.distance;
     c.contact = model_.position(now.nearest);
@@ -360,7 +363,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
     // After a frame the probe rests on the surface up to the solve's residual, so a previous
     // position less than Δd across it still counts as on the surface; only one clearly across
     // started inside.
-    const double previous_side = locate_probe(probes[p].previous).side;
+    const double previous_side = locate_probe(probes[p].previous, now.nearest).side;
     const double tolerance = cs.mode == ContactMode::kPush ? cs.min_source_distance : -cs.min_source_distance;
     if (crossed(cs.mode, previous_side + tolerance)) {
       c.state = ProbeState::kStartedInside;

@@ -59,6 +59,8 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, Snapshot, 3, std::uint3
 class NearestCollector {
  public:
   NearestCollector(const PointModel& model, const double* q, double drift) : model_(model), q_(q), drift_(drift) {}
+  // The hint is tested like any candidate, so the search starts bounded by its distance.
+  void seed(std::uint32_t hint) { addPoint(0.0, hint); }
 
   std::size_t size() const { return best_index_ == PointIndex::kNoPoint ? 0 : 1; }
   bool full() const { return true; }
@@ -224,9 +226,11 @@ bool PointIndex::indexes(const PointModel& model) const noexcept {
   return impl_ && model.size() == size() && model.y.size() == size() && model.z.size() == size();
 }
 
-PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q, double drift) const noexcept {
+PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q, double drift,
+                                        std::uint32_t hint) const noexcept {
   if (size() == 0 || !indexes(model)) return {kNoPoint, std::numeric_limits<double>::infinity()};
   const double query[3] = {q.x, q.y, q.z};
+  const bool hinted = hint < size();
   // With the moved points listed, the tree holds the others at their snapshot positions: no
   // widening, and the list answers for the moved ones.
   const MovedOverlay* moved = usable_moved(drift);
@@ -235,12 +239,20 @@ PointIndex::Nearest PointIndex::nearest(const PointModel& model, const Vec3& q, 
     // ones' subtrees): its best then bounds the list's scan, which skips the blocks beyond it.
     std::uint32_t best = kNoPoint;
     double best_squared = std::numeric_limits<double>::infinity();
+    if (hinted) {
+      const double d2 = current_squared_distance(model, hint, query);
+      if (d2 < best_squared) {  // false for a non-finite query, which then finds nothing
+        best = hint;
+        best_squared = d2;
+      }
+    }
     impl_->unlisted.nearest(query, *moved, counts_ready(), best, best_squared);
     moved->nearest(model, query, best, best_squared);
     if (best == kNoPoint) return {kNoPoint, std::numeric_limits<double>::infinity()};
     return {best, std::sqrt(best_squared)};
   }
   NearestCollector collector(model, query, std::max(drift, 0.0));
+  if (hinted) collector.seed(hint);
   impl_->tree.findNeighbors(collector, query, nanoflann::SearchParams());
   if (collector.best_index() == kNoPoint) {
     // Only reachable with a non-finite query: every comparison failed.

@@ -717,5 +717,52 @@ TEST(MovedPointsIndex, AnUndoneFrameIsToldAndStaysExact) {
   EXPECT_EQ(found.nearest + found.within, 0);
 }
 
+TEST(MovedPointsIndex, AHintNeverChangesTheAnswer) {
+  // nearest()'s hint only bounds the search from the start. Under a dent (the moved list in use)
+  // and under a drift (the widened tree), with hints at the answer, beside it, across the model,
+  // on a tied duplicate with the larger index, and out of range: every answer is the unhinted
+  // one, bit for bit, and brute force's.
+  PointModel m = sphere_with_ties();
+  PointIndex listed(m);
+  listed.track_moved(1 << 16);
+  PointIndex widened(m);
+  std::mt19937 rng(21);
+  double drift = 0.0;
+  for (int frame = 0; frame < 10; ++frame) {
+    const std::vector<std::uint32_t> moved = press(m, listed, rng, 0.25, 0.05);
+    drift += 0.05 * (1.0 + std::hypot(0.3, 0.1)) + 1e-6;      // press()'s largest move, with room
+    (void)listed.nearest(m, m.position(moved.front()), 0.0);  // the list's counts from now on
+  }
+  ASSERT_TRUE(listed.moved_complete());
+  const auto n = static_cast<std::uint32_t>(m.size());
+  std::uniform_int_distribution<std::uint32_t> pick(0, n - 1);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  int queries = 0, brute_misses = 0;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 q = m.position(pick(rng)) * (k % 2 == 0 ? 1.0 : 1.2) + Vec3{jitter(rng), jitter(rng), jitter(rng)};
+    const PointIndex::Nearest want = brute_nearest(m, q);
+    const std::uint32_t tied = want.index < 300 ? 20000 + want.index : want.index;  // its duplicate
+    for (const PointIndex* index : {&listed, &widened}) {
+      const double d = index == &listed ? 0.0 : drift;
+      const PointIndex::Nearest plain = index->nearest(m, q, d);
+      brute_misses += !same_nearest(m, q, plain, want);
+      for (const std::uint32_t hint :
+           {want.index, tied, pick(rng), (want.index + 1) % n, PointIndex::kNoPoint, n + 5}) {
+        const PointIndex::Nearest hinted = index->nearest(m, q, d, hint);
+        ASSERT_EQ(hinted.index, plain.index) << "query " << k << ", hint " << hint;
+        ASSERT_EQ(hinted.distance, plain.distance) << "query " << k << ", hint " << hint;
+        ++queries;
+      }
+    }
+  }
+  EXPECT_EQ(brute_misses, 0);
+  EXPECT_EQ(queries, 200 * 2 * 6);
+  // A non-finite query finds nothing, whatever the hint.
+  const Vec3 nan_query{std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0};
+  for (const PointIndex* index : {&listed, &widened}) {
+    EXPECT_EQ(index->nearest(m, nan_query, drift, 0).index, PointIndex::kNoPoint);
+  }
+}
+
 }  // namespace
 }  // namespace sculpt::deform

@@ -82,10 +82,12 @@ double side_smoothing(const PointModel& model, const PointIndex& index, double b
 /// the curvature. The probe is across when either estimate says so: side = min(plane_side,
 /// surface_side) for a push (a finger both see outside is free), the max for a pull. Farther
 /// than 2h, and when the neighbourhood does not fit in `neighbours`, side = plane_side.
-/// `neighbours` is scratch: reserve() it for the model's size; it is never grown. Does not
-/// allocate or throw.
+/// `neighbours` is scratch: reserve() it for the model's size; it is never grown. `hint` is a
+/// guess at A that speeds the search (PointIndex::nearest); the result does not depend on it.
+/// Does not allocate or throw.
 SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift, const Vec3& probe,
-                   const ContactSettings& settings, double smoothing, std::vector<std::uint32_t>& neighbours) noexcept;
+                   const ContactSettings& settings, double smoothing, std::vector<std::uint32_t>& neighbours,
+                   std::uint32_t hint = PointIndex::kNoPoint) noexcept;
 
 /// The same with its own scratch and smoothing (side_smoothing()): allocates; for set-up and
 /// tests, never the tick.

@@ -209,8 +209,8 @@ class Deformer {
   void compute_tractions(FrameReport& r) noexcept;
   void keep_probes_outside(std::span<const ProbeMotion> probes, FrameReport& r) noexcept;
   // A and the side of a probe on the current model (contact.hpp's locate, with this deformer's
-  // scratch and smoothing length).
-  SurfaceSide locate_probe(const Vec3& probe) noexcept;
+  // scratch and smoothing length); `hint` a guess at A (see PointIndex::nearest).
+  SurfaceSide locate_probe(const Vec3& probe, std::uint32_t hint) noexcept;
 
   PointModel& model_;
   DeformSettings settings_;
@@ -247,6 +247,10 @@ class Deformer {
   std::vector<std::size_t> neighbourhood_begin_;      // where each probe's points start in it
   std::vector<double> patch_area_scale_;              // per probe: patch points before thinning / after
   double last_patch_scale_ = 1.0;                     // add_neighbourhood's thinning of its last patch
+  // Per probe: A when it was last located, the nearest-point search's first guess next time (a
+  // finger moves little between frames; under a dent the guess spares the search the snapshot
+  // points the dent moved away).
+  std::vector<std::uint32_t> probe_hints_;
 };
 
 }  // namespace sculpt::deform

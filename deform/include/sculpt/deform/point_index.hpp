@@ -85,7 +85,12 @@ class PointIndex {
   /// `drift` since the snapshot. Ties in distance go to the smallest index. Returns
   /// {kNoPoint, +infinity} for an empty index, a non-finite query or a model the index does
   /// not index (see indexes()). Does not allocate or throw. Thread-safe (const).
-  Nearest nearest(const PointModel& model, const Vec3& q, double drift = 0.0) const noexcept;
+  /// `hint`, when a point of the model, is a guess at the answer (the same probe's nearest point
+  /// a moment ago, say): its current distance bounds the search from the start, so that under a
+  /// dent, where the nearest points of the snapshot have moved away, the search does not first
+  /// find a far one. The answer does not depend on it.
+  Nearest nearest(const PointModel& model, const Vec3& q, double drift = 0.0,
+                  std::uint32_t hint = kNoPoint) const noexcept;
 
   /// Indices of all points whose current position is within `radius` of q (inclusive:
   /// squared distance <= radius * radius), written into `out` (cleared first, ascending index
