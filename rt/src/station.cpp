@@ -65,6 +65,7 @@ Station::Station(deform::PointModel& model, StationSettings settings, std::uniqu
       deformer_(model, prepared(settings_, model, haptic != nullptr)),
       glove_(std::move(glove)),
       haptic_(std::move(haptic)),
+      region_sizer_(settings_.region.budget_fraction),
       shaper_(settings_.haptic, settings_.fingers.size(), settings_.rate_hz),
       rebuilder_(model.size()),
       // Queries widen by the drift: past half the contact radius their candidate sets grow.
@@ -169,17 +170,11 @@ void Station::update_fingers(std::int64_t) noexcept {
 }
 
 void Station::size_region(std::int64_t budget_ns) noexcept {
-  if (settings_.region.kind != RegionPolicy::Kind::kAuto || cost_per_point_force_ns_ <= 0.0) return;
-  const deform::FrameReport& last = *last_frame_;
-  if (last.region_points == 0) return;
-  // The work is proportional to points x forces; aim the next region at what the remaining
-  // budget can pay for, nearest points first (the region is a ball around each contact).
-  const double forces = static_cast<double>(std::max<std::size_t>(probes_.size(), 1));
-  const double allowed =
-      settings_.region.budget_fraction * static_cast<double>(budget_ns) / (cost_per_point_force_ns_ * forces);
-  const double current = deformer_.settings().region.radius;
-  const double scale = std::sqrt(std::max(allowed, 1.0) / static_cast<double>(last.region_points));
-  deformer_.set_region_radius(current * std::clamp(scale, 0.5, 2.0));
+  if (settings_.region.kind != RegionPolicy::Kind::kAuto || !region_sizer_.ready()) return;
+  // Every finger present may press: size for all of them, nearest points first (the region is
+  // a ball around each contact).
+  deformer_.set_region_radius(region_sizer_.next_radius(deformer_.settings().region.radius, last_frame_->region_points,
+                                                        probes_.size(), static_cast<double>(budget_ns)));
 }
 
 void Station::run_frame(std::int64_t budget_ns) noexcept {
@@ -218,10 +213,7 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
   totals_.collisions += frame.collisions;
   totals_.max_region_points = std::max(totals_.max_region_points, frame.region_points);
   totals_.max_region_radius = std::max(totals_.max_region_radius, report_.region_radius);
-  if (frame.collisions > 0 && frame.region_points > 0) {
-    const double sample = report_.deform_ns / (static_cast<double>(frame.region_points) * frame.collisions);
-    cost_per_point_force_ns_ = cost_per_point_force_ns_ > 0.0 ? 0.8 * cost_per_point_force_ns_ + 0.2 * sample : sample;
-  }
+  region_sizer_.observe(frame.region_points, frame.collisions, report_.deform_ns);
   // Each frame the deformer applied is a frame of its own in the log (a split step holds
   // several), with consecutive ids, so replay reproduces the step exactly.
   const auto applied = deformer_.frames();

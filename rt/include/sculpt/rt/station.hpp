@@ -16,6 +16,7 @@
 #include "sculpt/rt/haptic_shaper.hpp"
 #include "sculpt/rt/index_rebuilder.hpp"
 #include "sculpt/rt/one_euro_filter.hpp"
+#include "sculpt/rt/region_sizer.hpp"
 #include "sculpt/rt/similarity_transform.hpp"
 #include "sculpt/rt/station_recorder.hpp"
 
@@ -165,7 +166,7 @@ class Station {
   StationTotals totals_;
   deform::FrameReport empty_frame_;
   const deform::FrameReport* last_frame_ = &empty_frame_;
-  double cost_per_point_force_ns_ = 0.0;  // measured, exponentially averaged
+  RegionSizer region_sizer_;  // kAuto: the next frame's radius from the frames' times
   HapticShaper shaper_;
   std::array<bool, hal::kHands> hand_touching_{};  // a finger of the hand was in contact last tick
   std::array<std::int64_t, hal::kHands> last_command_ns_{};
