@@ -300,6 +300,7 @@ bool Deformer::probe_usable(const ProbeMotion& m) const noexcept {
 
 void Deformer::keep_probes_outside(std::span<const ProbeMotion> probes, FrameReport& r) noexcept {
   const ContactSettings& cs = settings_.contact;
+  index_.prepare_queries(model_, drift_);  // the frame's moves may have brought the list into use
   for (std::size_t p = 0; p < probes.size(); ++p) {
     ContactReport& c = r.contacts[p];
     if (c.state == ProbeState::kDropped) continue;
@@ -342,6 +343,8 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   conditions_.clear();
   contact_points_.clear();
   contact_neighbourhood_.clear();
+  // The drift is fixed until the frame moves the model: one preparation serves its queries.
+  index_.prepare_queries(model_, drift_);
 
   // 1. Collisions, forces and the contact boundary conditions u0 = P_f - A.
   std::size_t contact_conditions = 0;
@@ -443,13 +446,18 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   //    that folds the material or yields a non-finite value is undone bit for bit.
   const FieldResult moved = apply_displacements(model_, settings_.kernel, forces_, region_.points(), region_.global(),
                                                 settings_.field, /*jacobian=*/true, &journal_, worker_.get());
-  // The index must hear of every position written, the undo's included (its exactness).
-  const auto positions_written = [&] { index_.note_moved(model_, region_.points_as_found(), region_.global()); };
-  positions_written();
+  // The index must hear of every position written, the undo's included (its exactness), and
+  // of the drift the next queries will pass (a kept pass adds its move).
+  double next_drift = drift_, next_extent = extent_;
+  add_stored_move(moved.max_displacement, next_drift, next_extent);
+  const auto positions_written = [&](double drift) {
+    index_.note_moved(model_, region_.points_as_found(), region_.global(), drift);
+  };
+  positions_written(next_drift);
   r.min_jacobian = moved.min_jacobian;
   if (!moved.finite) {
     journal_.restore(model_);
-    positions_written();
+    positions_written(drift_);
     r.rejected = true;
     ++r.guards.non_finite;
     keep_probes_outside(probes, r);
@@ -457,7 +465,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   }
   if (!(moved.min_jacobian > settings_.guards.min_jacobian)) {
     journal_.restore(model_);
-    positions_written();
+    positions_written(drift_);
     r.rejected = true;
     return Outcome::kFolded;
   }

@@ -10,8 +10,35 @@ MovedOverlay::MovedOverlay(std::size_t model_size, std::size_t capacity)
       listed_((model_size + 63) / 64, 0),
       ids_(std::min(capacity, model_size)),
       boxes_((ids_.size() + kBlock - 1) / kBlock),
-      groups_((boxes_.size() + kGroup - 1) / kGroup) {
+      groups_((boxes_.size() + kGroup - 1) / kGroup),
+      pending_(ids_.size()),
+      pending_bits_(listed_.size(), 0) {
   reset_boxes();
+}
+
+void MovedOverlay::defer(const PointModel& model, std::span<const std::uint32_t> points) noexcept {
+  if (pending_.empty()) {  // a list without room: note() marks it overflowed
+    note(model, points);
+    return;
+  }
+  for (const std::uint32_t i : points) {
+    std::uint64_t& word = pending_bits_[i / 64];
+    const std::uint64_t bit = std::uint64_t{1} << (i % 64);
+    if (word & bit) continue;
+    if (pending_count_ == pending_.size()) settle(model);  // full: list what is waiting
+    word |= bit;
+    pending_[pending_count_++] = i;
+    if (!contains(i)) ++pending_new_;
+  }
+}
+
+void MovedOverlay::settle(const PointModel& model) noexcept {
+  if (pending_count_ == 0) return;
+  const std::span<const std::uint32_t> points(pending_.data(), pending_count_);
+  note(model, points);
+  for (const std::uint32_t i : points) pending_bits_[i / 64] &= ~(std::uint64_t{1} << (i % 64));
+  pending_count_ = 0;
+  pending_new_ = 0;
 }
 
 void MovedOverlay::reset_boxes() noexcept {
@@ -84,6 +111,12 @@ void MovedOverlay::clear() noexcept {
   count_ = 0;
   overflowed_ = false;
   reset_boxes();
+  for (std::size_t k = 0; k < pending_count_; ++k) {
+    const std::uint32_t i = pending_[k];
+    pending_bits_[i / 64] &= ~(std::uint64_t{1} << (i % 64));
+  }
+  pending_count_ = 0;
+  pending_new_ = 0;
 }
 
 double MovedOverlay::box_squared_distance(const Box& b, const double* q) noexcept {

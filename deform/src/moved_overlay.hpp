@@ -40,6 +40,14 @@ class MovedOverlay {
   /// `points` may have new positions now (read from the model at query time). A point beyond
   /// the capacity overflows the list: it is then incomplete until clear().
   void note(const PointModel& model, std::span<const std::uint32_t> points) noexcept;
+  /// `points` may have new positions now, to be listed by settle(): until then queries must not
+  /// use the list (settled() is false). Listing reads each point's position and slot, scattered
+  /// through the model (a tenth of a region frame); a frame whose queries will not consult the
+  /// list need not pay for it, and a point written by several such frames is listed once.
+  void defer(const PointModel& model, std::span<const std::uint32_t> points) noexcept;
+  /// Lists the deferred points at their current positions.
+  void settle(const PointModel& model) noexcept;
+  bool settled() const noexcept { return pending_count_ == 0; }
   /// Every point may have moved (a global frame): the list is incomplete until clear().
   void note_all() noexcept { overflowed_ = true; }
   /// The snapshot equals the model again: nothing has moved.
@@ -49,6 +57,7 @@ class MovedOverlay {
   template <class Differs>
   void retain(const PointModel& model, Differs differs) noexcept {
     if (overflowed_) return;  // who moved is not known: stays incomplete
+    settle(model);
     std::size_t kept = 0;
     for (std::size_t s = 0; s < count_; ++s) {
       const std::uint32_t i = ids_[s];
@@ -66,6 +75,8 @@ class MovedOverlay {
   bool complete() const noexcept { return !overflowed_; }
   bool contains(std::uint32_t i) const noexcept { return (listed_[i / 64] >> (i % 64)) & 1u; }
   std::size_t size() const noexcept { return count_; }
+  /// Deferred points not yet listed: size() + this is what the list will hold once settled.
+  std::size_t pending_new() const noexcept { return pending_new_; }
   /// The listed points in the order they were listed (a point noted again keeps its place).
   std::span<const std::uint32_t> listed() const noexcept { return {ids_.data(), count_}; }
   std::size_t capacity() const noexcept { return ids_.size(); }
@@ -109,11 +120,15 @@ class MovedOverlay {
   void reset_boxes() noexcept;
   static double box_squared_distance(const Box& b, const double* q) noexcept;
 
-  std::vector<std::uint32_t> slot_;    // per model point: its slot + 1, or 0 when not listed
-  std::vector<std::uint64_t> listed_;  // the same as bits (what a query reads: 1/32 the memory)
-  std::vector<std::uint32_t> ids_;     // the listed points, slot order
-  std::vector<Box> boxes_;             // one per block of kBlock slots
-  std::vector<Box> groups_;            // one per kGroup blocks
+  std::vector<std::uint32_t> slot_;          // per model point: its slot + 1, or 0 when not listed
+  std::vector<std::uint64_t> listed_;        // the same as bits (what a query reads: 1/32 the memory)
+  std::vector<std::uint32_t> ids_;           // the listed points, slot order
+  std::vector<Box> boxes_;                   // one per block of kBlock slots
+  std::vector<Box> groups_;                  // one per kGroup blocks
+  std::vector<std::uint32_t> pending_;       // deferred points, each once, in the order first deferred
+  std::vector<std::uint64_t> pending_bits_;  // per model point: deferred and not yet settled
+  std::size_t pending_count_ = 0;
+  std::size_t pending_new_ = 0;  // of them, those not listed
   std::size_t count_ = 0;
   bool overflowed_ = false;
 };

@@ -157,14 +157,30 @@ void PointIndex::track_moved(std::size_t capacity, double min_drift) {
   moved_min_drift_ = min_drift;
 }
 
-void PointIndex::note_moved(const PointModel& model, std::span<const std::uint32_t> points, bool all) noexcept {
+void PointIndex::note_moved(const PointModel& model, std::span<const std::uint32_t> points, bool all,
+                            double next_drift) noexcept {
   if (!moved_) return;
   if (all) {
     moved_->note_all();
-  } else {
+    return;
+  }
+  // A list the next queries consult is listed at once; otherwise when a query may consult it.
+  if (next_drift >= moved_min_drift_) {
+    moved_->settle(model);
     moved_->note(model, points);
     if (std::atomic_ref<bool>(list_wanted_).load(std::memory_order_relaxed)) mark_listed();
+  } else {
+    moved_->defer(model, points);
   }
+}
+
+void PointIndex::prepare_queries(const PointModel& model, double drift) noexcept {
+  if (moved_ && !moved_->settled() && drift >= moved_min_drift_) settle_moved(model);
+}
+
+void PointIndex::settle_moved(const PointModel& model) noexcept {
+  moved_->settle(model);
+  if (std::atomic_ref<bool>(list_wanted_).load(std::memory_order_relaxed)) mark_listed();
 }
 
 void PointIndex::mark_listed() noexcept {
@@ -201,14 +217,16 @@ void PointIndex::take_moved(PointIndex& previous, const PointModel& model) noexc
   if (std::atomic_ref<bool>(list_wanted_).load(std::memory_order_relaxed)) mark_listed();
 }
 
-std::size_t PointIndex::moved_count() const noexcept { return moved_ ? moved_->size() : 0; }
+std::size_t PointIndex::moved_count() const noexcept { return moved_ ? moved_->size() + moved_->pending_new() : 0; }
 
 std::size_t PointIndex::moved_capacity() const noexcept { return moved_ ? moved_->capacity() : 0; }
 
 bool PointIndex::moved_complete() const noexcept { return moved_ && moved_->complete(); }
 
 const MovedOverlay* PointIndex::usable_moved(double drift) const noexcept {
-  return moved_ && moved_->complete() && drift >= moved_min_drift_ ? moved_.get() : nullptr;
+  // A list with points still to settle is not used: the query widens by the drift instead, so
+  // that exactness never depends on prepare_queries() having been called.
+  return moved_ && moved_->complete() && moved_->settled() && drift >= moved_min_drift_ ? moved_.get() : nullptr;
 }
 
 bool PointIndex::counts_ready() const noexcept {

@@ -479,6 +479,9 @@ bool same_nearest(const PointModel& m, const Vec3& q, const PointIndex::Nearest&
          std::abs(got.distance - want.distance) <= slack;
 }
 
+// press()'s largest move for a depth, with room for the float rounding of the new positions.
+double press_move_bound(double depth) { return depth * (1.0 + std::hypot(0.3, 0.1)) + 1e-6; }
+
 // Queries near the moved points and at random, all answered with drift 0.
 struct Misses {
   int nearest = 0, within = 0, queries = 0;
@@ -730,7 +733,7 @@ TEST(MovedPointsIndex, AHintNeverChangesTheAnswer) {
   double drift = 0.0;
   for (int frame = 0; frame < 10; ++frame) {
     const std::vector<std::uint32_t> moved = press(m, listed, rng, 0.25, 0.05);
-    drift += 0.05 * (1.0 + std::hypot(0.3, 0.1)) + 1e-6;      // press()'s largest move, with room
+    drift += press_move_bound(0.05);
     (void)listed.nearest(m, m.position(moved.front()), 0.0);  // the list's counts from now on
   }
   ASSERT_TRUE(listed.moved_complete());
@@ -762,6 +765,52 @@ TEST(MovedPointsIndex, AHintNeverChangesTheAnswer) {
   for (const PointIndex* index : {&listed, &widened}) {
     EXPECT_EQ(index->nearest(m, nan_query, drift, 0).index, PointIndex::kNoPoint);
   }
+}
+
+TEST(MovedPointsIndex, PointsSetAsideUntilTheListIsWantedAreListedOnceAndQueriesStayExact) {
+  // With a min_drift, a write the next queries will not consult the list for is set aside:
+  // counted once however often it is told, listed by prepare_queries(). Queries at a drift that
+  // would consult the list stay exact before (they widen by the drift) and after it.
+  PointModel m = sphere_with_ties();
+  PointIndex index(m);
+  constexpr double kMinDrift = 0.2;
+  index.track_moved(1 << 16, kMinDrift);
+  std::mt19937 rng(41);
+  PointIndex untold;  // press() tells this one; `index` is told below
+  double drift = 0.0;
+  std::vector<std::uint32_t> all_moved;
+  for (int frame = 0; frame < 8; ++frame) {
+    const std::vector<std::uint32_t> moved = press(m, untold, rng, 0.2, 0.03);
+    drift += press_move_bound(0.03);
+    index.note_moved(m, moved, false, /*next_drift=*/0.0);  // queries below the list's drift
+    index.note_moved(m, moved, false, 0.0);                 // told twice, counted once
+    all_moved.insert(all_moved.end(), moved.begin(), moved.end());
+  }
+  std::sort(all_moved.begin(), all_moved.end());
+  all_moved.erase(std::unique(all_moved.begin(), all_moved.end()), all_moved.end());
+  ASSERT_GE(drift, kMinDrift);
+  EXPECT_EQ(index.moved_count(), all_moved.size());
+  std::vector<std::uint32_t> found;
+  found.reserve(kOutCapacity);
+  std::uniform_int_distribution<std::size_t> pick(0, all_moved.size() - 1);
+  auto misses = [&] {
+    int n = 0;
+    for (int k = 0; k < 40; ++k) {
+      const Vec3 q = m.position(all_moved[pick(rng)]) * 1.01;
+      n += !same_nearest(m, q, index.nearest(m, q, drift), brute_nearest(m, q));
+      EXPECT_TRUE(index.within_radius(m, q, 0.06, found, drift));
+      n += found != oracle_within(m, q, 0.06);
+    }
+    return n;
+  };
+  EXPECT_EQ(misses(), 0) << "set aside";
+  index.prepare_queries(m, drift);
+  EXPECT_EQ(index.moved_count(), all_moved.size());
+  EXPECT_EQ(misses(), 0) << "listed";
+  // Listed, the answers no longer depend on the drift passed: a far too small one (above the
+  // list's threshold) still finds the moved points.
+  const Vec3 q = m.position(all_moved.front());
+  EXPECT_TRUE(same_nearest(m, q, index.nearest(m, q, kMinDrift), brute_nearest(m, q)));
 }
 
 }  // namespace

@@ -123,14 +123,23 @@ class PointIndex {
   void track_moved(std::size_t capacity, double min_drift = 0.0);
   /// Every write to the indexed model's positions must be told here, with the points written
   /// (`all`: every point may have moved). Exactness depends on it. noexcept, allocation-free.
-  void note_moved(const PointModel& model, std::span<const std::uint32_t> points, bool all) noexcept;
+  /// With a min_drift above zero, unless the queries that follow will pass a drift of at least
+  /// it (`next_drift`), the points are only set aside, and listed (their positions read) by
+  /// prepare_queries(): until then queries widen by the drift.
+  void note_moved(const PointModel& model, std::span<const std::uint32_t> points, bool all,
+                  double next_drift = 0.0) noexcept;
+  /// Queries with this `drift` follow: when they would consult the list, lists the points set
+  /// aside first. For speed only (without it they widen by the drift, exactly). noexcept,
+  /// allocation-free.
+  void prepare_queries(const PointModel& model, double drift) noexcept;
   /// The model's positions equal the snapshot again (an undo to the positions it was built on).
   void forget_moved() noexcept;
   /// After this index was swapped in for `previous` (built from a snapshot taken after every
   /// point outside previous's list last moved): takes over previous's list and keeps of it only
   /// the points that differ from this snapshot. noexcept, allocation-free.
   void take_moved(PointIndex& previous, const PointModel& model) noexcept;
-  /// Points listed as moved since the snapshot (0 without a list), and how many it can hold.
+  /// Points listed (or set aside to be) as moved since the snapshot (0 without a list), and
+  /// how many the list can hold.
   std::size_t moved_count() const noexcept;
   std::size_t moved_capacity() const noexcept;
   /// Whether a list is kept and complete, so queries do not depend on the drift.
@@ -138,6 +147,8 @@ class PointIndex {
 
  private:
   const MovedOverlay* usable_moved(double drift) const noexcept;
+  // Lists the points note_moved() set aside, and brings the tree's counts up to them.
+  void settle_moved(const PointModel& model) noexcept;
   // Brings the tree's per-subtree counts of unlisted points up to the list.
   void mark_listed() noexcept;
   // Whether those counts are up to the list (the moved list must be in use).
