@@ -165,13 +165,12 @@ void PointIndex::note_moved(const PointModel& model, std::span<const std::uint32
     return;
   }
   // A list the next queries consult is listed at once; otherwise when a query may consult it.
-  if (next_drift >= moved_min_drift_) {
-    moved_->settle(model);
-    moved_->note(model, points);
-    if (std::atomic_ref<bool>(list_wanted_).load(std::memory_order_relaxed)) mark_listed();
-  } else {
+  if (!(next_drift >= moved_min_drift_)) {
     moved_->defer(model, points);
+    return;
   }
+  moved_->note(model, points);
+  settle_moved(model);  // what was set aside before, and the tree's counts for all of it
 }
 
 void PointIndex::prepare_queries(const PointModel& model, double drift) noexcept {
