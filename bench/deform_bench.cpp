@@ -20,6 +20,7 @@
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normals.hpp"
 #include "sculpt/deform/point_index.hpp"
+#include "sculpt/deform/spatial_order.hpp"
 #include "sculpt/deform/weight_solver.hpp"
 #include "ratio_report.hpp"
 #include "yardstick.hpp"
@@ -36,13 +37,26 @@ double heap_bytes() {
   return static_cast<double>(m.uordblks + m.hblkhd);
 }
 
+// A name ending in this is the model before it stored in Z order (sculpt order).
+const std::string kZOrder = "+z";
+
+// The file a model name reads: the name without its Z-order suffix. Probes are placed on this
+// model's points, so that a Z-ordered copy is pressed at the same places.
+std::string file_of(const std::string& name) {
+  return name.ends_with(kZOrder) ? name.substr(0, name.size() - kZOrder.size()) : name;
+}
+
 // Models are loaded once and shared by every benchmark that names them.
 const PointModel* load(const std::string& name) {
   static std::map<std::string, std::unique_ptr<PointModel>> cache;
   auto it = cache.find(name);
   if (it != cache.end()) return it->second.get();
   std::unique_ptr<PointModel> model;
-  if (name == "sphere") {
+  if (name != file_of(name)) {
+    const PointModel* file = load(file_of(name));
+    if (!file) return nullptr;
+    model = std::make_unique<PointModel>(reordered(*file, spatial_order(*file)));
+  } else if (name == "sphere") {
     model = std::make_unique<PointModel>(make_sphere());
   } else {
     const std::string path = std::string(SCULPT_SOURCE_DIR) + "/data/scans/" + name;
@@ -89,7 +103,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
            int threads = 1, double normal_skip_bound = 0.0, bool fast_inverse_sqrt = false) {
   const PointModel* source = load(name);
   if (!source) {
-    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
+    state.SkipWithError(("data/scans/" + file_of(name) + " missing: run scripts/fetch_scans.sh").c_str());
     return;
   }
   const std::size_t fingers = static_cast<std::size_t>(state.range(0));
@@ -101,7 +115,7 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   Deformer deformer(model, settings);
   // The model's arrays and everything the deformer reserved (index, journal, buffers).
   const double bytes_per_point = (heap_bytes() - heap_before) / static_cast<double>(model.size());
-  const std::vector<ProbeMotion> probes = spread_probes(*source, fingers, spacing);
+  const std::vector<ProbeMotion> probes = spread_probes(*load(file_of(name)), fingers, spacing);
   std::size_t moved = 0, collisions = 0, normals_kept = 0;
   for (auto _ : state) {
     state.PauseTiming();
@@ -148,7 +162,7 @@ void stroke(benchmark::State& state, const std::string& name, double region_spac
   constexpr int kStrokeFrames = 16;
   const PointModel* source = load(name);
   if (!source) {
-    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
+    state.SkipWithError(("data/scans/" + file_of(name) + " missing: run scripts/fetch_scans.sh").c_str());
     return;
   }
   const std::size_t fingers = static_cast<std::size_t>(state.range(0));
@@ -157,7 +171,7 @@ void stroke(benchmark::State& state, const std::string& name, double region_spac
   Deformer deformer(model, bench_settings(spacing, Precision::kFloat, region_spacings));
   // Each finger's surface point a, its outward normal n and a direction t along the surface.
   std::vector<Vec3> at, out, along;
-  for (const ProbeMotion& m : spread_probes(*source, fingers, spacing)) {
+  for (const ProbeMotion& m : spread_probes(*load(file_of(name)), fingers, spacing)) {
     const Vec3 n = normalized(m.previous - m.current);
     const Vec3 a = m.current + n * spacing;
     const Vec3 axis = std::abs(n.x) < 0.5 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
@@ -266,7 +280,7 @@ IndexedScan indexed_scan(benchmark::State& state, const std::string& name) {
   IndexedScan scan;
   scan.model = load(name);
   if (!scan.model) {
-    state.SkipWithError(("data/scans/" + name + " missing: run scripts/fetch_scans.sh").c_str());
+    state.SkipWithError(("data/scans/" + file_of(name) + " missing: run scripts/fetch_scans.sh").c_str());
     return scan;
   }
   scan.index = std::make_unique<PointIndex>(*scan.model);
@@ -426,6 +440,16 @@ void register_all() {
       if (p == Precision::kFloat) {
         RegisterBenchmark(("Scan/" + name + "/region20_stroke/" + tag).c_str(),
                           [name](benchmark::State& s) { stroke(s, name, 20.0); })
+            ->Arg(5)
+            ->Unit(ms);
+        // The same frames on the scan stored in Z order (sculpt order), pressed at the same points.
+        const std::string ordered = name + kZOrder;
+        RegisterBenchmark(("Scan/" + name + "/region20_zorder/" + tag).c_str(),
+                          [p, ordered](benchmark::State& s) { frame(s, ordered, p, 20.0); })
+            ->Arg(5)
+            ->Unit(ms);
+        RegisterBenchmark(("Scan/" + name + "/region20_stroke_zorder/" + tag).c_str(),
+                          [ordered](benchmark::State& s) { stroke(s, ordered, 20.0); })
             ->Arg(5)
             ->Unit(ms);
       }

@@ -25,6 +25,10 @@ die() { echo "bench_station: $*" >&2; exit 1; }
 
 model="$root/out/sphere_2m.ply"
 [ -f "$model" ] || "$sculpt" generate sphere --points 2000000 --out "$model"
+# The same points in Z order (sculpt order): the generator's golden spiral stores a ball's
+# points a ring apart, the scan order a region frame pays for.
+ordered="$root/out/sphere_2m_z.ply"
+[ -f "$ordered" ] || "$sculpt" order "$model" --out "$ordered"
 
 # A scene variant in out/bench/: model and outputs made absolute, then the given sed edits.
 variant() {  # name source.toml sed-expressions...
@@ -35,6 +39,7 @@ variant() {  # name source.toml sed-expressions...
 }
 variant bench-2m-t1 bench-2m.toml
 variant bench-2m-t2 bench-2m.toml -e 's/^mode = "push"$/mode = "push"\nthreads = 2/'
+variant bench-2m-z1 bench-2m.toml -e 's#/out/sphere_2m\.ply"#/out/sphere_2m_z.ply"#'
 # The worker's case, a global frame (every point moves) over 100k points, in a stroke that
 # keeps colliding: one finger one spacing into a 100k-point sphere, circling its equator once
 # every 10 s (a repeated press would meet only the dent the first one left).
@@ -89,7 +94,7 @@ t_ms() {
 }
 
 t_before="$(t_ms)"
-for name in bench-2m-t1 bench-2m-t2 sphere100k-circle-t1 sphere100k-circle-t2; do
+for name in bench-2m-t1 bench-2m-t2 bench-2m-z1 sphere100k-circle-t1 sphere100k-circle-t2; do
   echo "bench_station: $name, $duration s" >&2
   "$sculpt" run "$out/$name.toml" --duration "$duration" --quiet --json "$out/$name.json" >"$out/$name.out" 2>&1 ||
     die "$name failed: see $out/$name.out"
@@ -102,7 +107,7 @@ out, t0, t1 = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
 print(f"T(100k) = {t0:.3f} ms before the runs, {t1:.3f} ms after (Bare5/100250, CPU median of 5)")
 print("| run | points | threads | ticks | frames | overruns | tick median | p99 | p99.9 | max | CPU p99.9 | CPU max | wake-up p99 | region points | index rebuilds |")
 print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-for name, points in [("bench-2m-t1", "2,000,000"), ("bench-2m-t2", "2,000,000"),
+for name, points in [("bench-2m-t1", "2,000,000"), ("bench-2m-t2", "2,000,000"), ("bench-2m-z1", "2,000,000 (Z order)"),
                      ("sphere100k-circle-t1", "100,000"), ("sphere100k-circle-t2", "100,000")]:
     d = json.load(open(f"{out}/{name}.json"))
     h = d["tick_time"]

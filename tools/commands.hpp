@@ -25,6 +25,7 @@ class Command {
 
 std::unique_ptr<Command> add_deform_command(CLI::App& app);
 std::unique_ptr<Command> add_generate_command(CLI::App& app);
+std::unique_ptr<Command> add_order_command(CLI::App& app);
 std::unique_ptr<Command> add_run_command(CLI::App& app);
 std::unique_ptr<Command> add_glove_sim_command(CLI::App& app);
 std::unique_ptr<Command> add_replay_command(CLI::App& app);

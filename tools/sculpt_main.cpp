@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   std::vector<std::unique_ptr<Command>> commands;
   commands.push_back(add_deform_command(app));
   commands.push_back(add_generate_command(app));
+  commands.push_back(add_order_command(app));
   commands.push_back(add_run_command(app));
   commands.push_back(add_glove_sim_command(app));
   commands.push_back(add_replay_command(app));

@@ -43,6 +43,42 @@ sphere="$repo/data/sphere_3203.ply"
 expect_exit 0 "generate sphere" -- "$SCULPT" generate sphere --out "$work/sphere.ply"
 if cmp -s "$work/sphere.ply" "$sphere"; then ok "bundled sphere equals generated one"; else bad "bundled sphere differs from sculpt generate sphere"; fi
 
+# sculpt order: the same points, faces and normals in Z order; locality rises; a press on the
+# ordered copy moves it as far as the original.
+expect_exit 0 "order the sphere" -- "$SCULPT" order "$sphere" --out "$work/sphere-z.ply"
+if python3 - "$work/out" <<'PY'
+import re, sys
+m = re.search(r"wrote .*: 3203 points in Z order; neighbours within a cache line ([0-9.]+) -> ([0-9.]+)", open(sys.argv[1]).read())
+sys.exit(0 if m and float(m.group(2)) > float(m.group(1)) + 0.3 else 1)
+PY
+then ok "order reports locality rising"; else bad "order's line: $(cat "$work/out")"; fi
+printf 'OFF\n5 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 1\n3 0 1 2\n3 1 3 4\n' >"$work/faces.off"
+expect_exit 0 "order a model with faces" -- "$SCULPT" order "$work/faces.off" --out "$work/faces-z.off"
+if python3 - "$work/faces.off" "$work/faces-z.off" <<'PY'
+import sys
+def faces(path):
+    t = open(path).read().split()
+    assert t[0] == "OFF"
+    n, f = int(t[1]), int(t[2])
+    v = [tuple(float(x) for x in t[4 + 3 * i:7 + 3 * i]) for i in range(n)]
+    at = 4 + 3 * n
+    out = []
+    for _ in range(f):
+        k = int(t[at]); out.append(tuple(v[int(c)] for c in t[at + 1:at + 1 + k])); at += 1 + k
+    return sorted(v), out
+a, b = faces(sys.argv[1]), faces(sys.argv[2])
+sys.exit(0 if a == b else 1)
+PY
+then ok "ordered faces join the same corners"; else bad "faces changed: $(cat "$work/faces-z.off")"; fi
+expect_exit 0 "press the ordered sphere" -- "$SCULPT" deform --model "$work/sphere-z.ply" --contact 0,0,1.1:0,0,0.95 --json "$work/report-z.json"
+expect_exit 0 "press the sphere" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
+expect_json "ordered sphere moves as far" "abs(j['max_displacement'] - json.load(open('$work/report-z.json'))['max_displacement']) <= 1e-6 * j['max_displacement']"
+expect_exit 1 "order a missing model" -- "$SCULPT" order "$work/none.ply" --out "$work/none-z.ply"
+one_line_error "order names the missing file" "none.ply"
+expect_exit 1 "order to an unknown format" -- "$SCULPT" order "$sphere" --out "$work/sphere.txt"
+one_line_error "order names the output" "sphere.txt"
+if [[ ! -e "$work/sphere.txt" ]]; then ok "nothing written for an unknown format"; else bad "order wrote $work/sphere.txt"; fi
+
 # One push at the pole: a collision, every point moved, the output readable again.
 expect_exit 0 "single push" -- "$SCULPT" deform --model "$sphere" --out "$work/pushed.ply" \
   --contact 0,0,1.1:0,0,0.95 --json "$work/report.json"
