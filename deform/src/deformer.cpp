@@ -158,6 +158,7 @@ void Deformer::restore(const PointModel& base) {
   std::copy(base.ny.begin(), base.ny.end(), model_.ny.begin());
   std::copy(base.nz.begin(), base.nz.end(), model_.nz.begin());
   extent_ = largest_coordinate(model_);
+  region_.measure_model(model_);
   if (index_holds_base_) {
     drift_ = 0.0;
     index_.forget_moved();
@@ -474,7 +475,9 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   r.max_normal_bound_angle = normal_bound_angle(moved.max_skipped_bound);
   r.region_points = region_.global() ? model_.size() : region_.points().size();
   r.border_points = band.size();
+  const double drift_before = drift_;
   add_stored_move(r.max_displacement, drift_, extent_);
+  region_.add_move(drift_ - drift_before);
 
   keep_probes_outside(probes, r);
   return Outcome::kApplied;

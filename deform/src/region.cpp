@@ -41,6 +41,7 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
                                   base::number_text(bc_radius + border_width_) + ")");
     }
   }
+  measure_model(model);
   const std::size_t n = model.size();
   points_.reserve(n);
   border_.reserve(n);
@@ -71,12 +72,44 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
   }
 }
 
+void Region::measure_model(const PointModel& model) noexcept {
+  moved_since_measure_ = 0.0;
+  box_lo_ = box_hi_ = Vec3{};
+  if (model.empty()) return;
+  box_lo_ = box_hi_ = model.position(0);
+  for (std::size_t i = 1; i < model.size(); ++i) {
+    const Vec3 p = model.position(i);
+    box_lo_ = {std::min(box_lo_.x, p.x), std::min(box_lo_.y, p.y), std::min(box_lo_.z, p.z)};
+    box_hi_ = {std::max(box_hi_.x, p.x), std::max(box_hi_.y, p.y), std::max(box_hi_.z, p.z)};
+  }
+}
+
+double Region::farthest_point_bound(const Vec3& c) const noexcept {
+  const double m = moved_since_measure_;
+  const Vec3 reach{std::max(c.x - box_lo_.x, box_hi_.x - c.x) + m, std::max(c.y - box_lo_.y, box_hi_.y - c.y) + m,
+                   std::max(c.z - box_lo_.z, box_hi_.z - c.z) + m};
+  return norm(reach) * (1.0 + 1e-9);
+}
+
+void Region::set_radius(double radius) noexcept {
+  // From a point in the box, the farthest is at most the box's diagonal away.
+  const Vec3 diagonal = box_hi_ - box_lo_ + Vec3{1.0, 1.0, 1.0} * (2.0 * moved_since_measure_);
+  const double holds_all = border_width_ + norm(diagonal) * (1.0 + 1e-9);
+  if (radius > holds_all) radius = holds_all;
+  settings_.radius = radius > min_radius_ ? radius : min_radius_;  // NaN: the smallest
+}
+
 void Region::build(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts) {
   if (settings_.kind != RegionSettings::Kind::kRadius) return;  // fixed for the others
   points_.clear();
   border_.clear();
   as_found_.clear();
   as_found_complete_ = true;
+  // Every point within radius - band of one contact: all move, none is in the band.
+  const double inner = settings_.radius - border_width_;
+  holds_model_ =
+      std::any_of(contacts.begin(), contacts.end(), [&](const Vec3& c) { return farthest_point_bound(c) <= inner; });
+  if (holds_model_) return;
   // Overlapping balls repeat points: past the reserve the order is dropped, not grown.
   const auto keep_as_found = [&] {
     if (as_found_.size() + scratch_.size() <= as_found_.capacity()) {
@@ -85,7 +118,6 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
       as_found_complete_ = false;
     }
   };
-  const double inner = settings_.radius - border_width_;
   const double inner_squared = inner * inner;
   if (balls_apart(contacts, settings_.radius)) {
     // Fingers apart (the common case): a point can only be deep in the ball that found it, so
@@ -100,6 +132,7 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
     }
     found_.drain(points_);
     band_found_.drain(border_);
+    holds_model_ = points_.size() == model.size() && border_.empty();
     return;
   }
   // Overlapping balls: a point found twice is listed once, and it is in the band when it is
@@ -116,6 +149,8 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
                                   [&](const Vec3& c) { return squared_norm(q - c) <= inner_squared; });
     if (!deep) border_.push_back(i);
   }
+  // The balls held every point after all (the box's corners lie beyond the model's points).
+  holds_model_ = points_.size() == model.size() && border_.empty();
 }
 
 }  // namespace sculpt::deform

@@ -68,13 +68,28 @@ TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
     as_found.erase(std::unique(as_found.begin(), as_found.end()), as_found.end());
     EXPECT_EQ(as_found, e.points);
   }
-  // Balls that each hold the whole sphere repeat every point: past the reserve (one model's
-  // worth) the found order is dropped and the ascending points stand in for it.
-  region.set_radius(3.0);
-  region.build(model, index, 0.0, std::vector<Vec3>{model.position(100), model.position(20000)});
+  // Balls that each hold most of the sphere repeat most points: past the reserve (one model's
+  // worth) the found order is dropped and the ascending points stand in for it. Together they
+  // hold every point deep inside, so the frame is a global one after all.
+  const std::vector<Vec3> pole_and_equator{model.position(100), model.position(20000)};
+  region.set_radius(1.9);
+  region.build(model, index, 0.0, pole_and_equator);
   ASSERT_EQ(region.points().size(), model.size());
   EXPECT_EQ(region.points_as_found().data(), region.points().data());
   EXPECT_EQ(region.points_as_found().size(), model.size());
+  EXPECT_TRUE(region.border().empty());
+  EXPECT_TRUE(region.global());
+  // One ball, less its band, holds the sphere's bounding box: global, nothing collected.
+  region.set_radius(3.0);
+  region.build(model, index, 0.0, pole_and_equator);
+  EXPECT_TRUE(region.global());
+  EXPECT_TRUE(region.points().empty());
+  // And back: a region again.
+  region.set_radius(0.3);
+  region.build(model, index, 0.0, pole_and_equator);
+  EXPECT_FALSE(region.global());
+  EXPECT_EQ(std::vector<std::uint32_t>(region.points().begin(), region.points().end()),
+            brute_force(model, pole_and_equator, 0.3, 0.3 - region.border_width()).points);
 }
 
 }  // namespace

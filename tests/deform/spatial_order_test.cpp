@@ -16,6 +16,7 @@
 
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/generators.hpp"
+#include "sphere_settings.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -125,19 +126,11 @@ TEST(SpatialOrder, NeighboursComeWithinACacheLine) {
 }
 
 DeformSettings sphere_settings(double region_radius) {
-  DeformSettings s;
-  s.kernel = {KernelKind::kKelvin, {3e7, 0.45}, 0.0};
-  s.contact.bc_radius = 0.04;
-  s.contact.min_source_distance = 0.01;
-  s.contact.guard_distance = 0.05;
+  DeformSettings s = frames::sphere_settings(0.04, 0.05, region_radius);
   // The smallest patch a contact may have is a fraction of the median ball, which set-up
   // samples over the file's order (model_scale.hpp: a stride, so that it stays the same when
   // the model is scaled or turned); the two orders may see it one point apart. Off here.
   s.guards.min_patch_fraction = 0.0;
-  if (region_radius > 0.0) {
-    s.region.kind = RegionSettings::Kind::kRadius;
-    s.region.radius = region_radius;
-  }
   return s;
 }
 

@@ -1,0 +1,99 @@
+// A radius region one of whose balls holds the whole model runs as the global frame: the same
+// points by the same bits, without the region's queries (the index's moved list, which only a
+// region frame keeps, shows which path ran); just short of that it is still a region; and the
+// radius a budget asks for stops where its ball holds everything, so it can shrink back.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "sculpt/deform/deformer.hpp"
+#include "sculpt/deform/generators.hpp"
+#include "sphere_settings.hpp"
+
+namespace sculpt::deform {
+namespace {
+
+DeformSettings settings(double region_radius) { return frames::sphere_settings(0.08, 0.1, region_radius); }
+
+bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+// Three fingers sliding over a sphere centred away from the origin (the box, not the origin,
+// decides), eight frames, each deforming the last one's output.
+struct Stroke {
+  PointModel model;
+  std::size_t collisions = 0, region_points = 0, border_points = 0;
+  bool list_kept = true;  // the index's moved list still complete after every frame
+};
+
+Stroke stroke(double region_radius) {
+  const Vec3 centre{40.0, -7.0, 3.0};
+  Stroke out{make_sphere(3203, 1.0, centre)};
+  Deformer deformer(out.model, settings(region_radius));
+  const Vec3 tops[3] = {normalized(Vec3{0.0, 0.0, 1.0}), normalized(Vec3{0.6, 0.0, 0.8}),
+                        normalized(Vec3{0.0, 0.6, 0.8})};
+  for (int frame = 0; frame < 8; ++frame) {
+    ProbeMotion probes[3];
+    for (int f = 0; f < 3; ++f) {
+      const Vec3 slide{0.004 * frame, 0.002 * frame, 0.0};
+      probes[f] = {centre + tops[f] * (1.06 - 0.01 * frame) + slide, centre + tops[f] * (0.96 - 0.01 * frame) + slide,
+                   std::nullopt};
+    }
+    const FrameReport& r = deformer.deform(probes);
+    out.collisions += r.collisions;
+    out.region_points += r.region_points;
+    out.border_points += r.border_points;
+    out.list_kept = out.list_kept && deformer.index().moved_complete();
+  }
+  return out;
+}
+
+TEST(RegionHoldsModel, ABallHoldingTheModelMovesItAsTheGlobalFrameDoes) {
+  const Stroke global = stroke(0.0);
+  // The sphere's diameter is 2: a ball of 2.6 around a contact on it holds all of it, band and all.
+  const Stroke held = stroke(2.6);
+  ASSERT_GT(global.collisions, 8u);
+  EXPECT_EQ(held.collisions, global.collisions);
+  EXPECT_EQ(held.region_points, global.region_points);  // every point, every frame
+  EXPECT_EQ(held.border_points, 0u);
+  EXPECT_FALSE(held.list_kept);  // ran as a global frame, which overflows the moved list
+  for (const auto member :
+       {&PointModel::x, &PointModel::y, &PointModel::z, &PointModel::nx, &PointModel::ny, &PointModel::nz}) {
+    EXPECT_TRUE(same_bytes(held.model.*member, global.model.*member));
+  }
+}
+
+TEST(RegionHoldsModel, ABallJustShortOfTheModelIsStillARegion) {
+  // From the top contact the far pole is 2 away: a ball of 1.9 leaves it out.
+  const Stroke region = stroke(1.9);
+  ASSERT_GT(region.collisions, 8u);
+  EXPECT_LT(region.region_points, region.collisions / 3 * 3203);
+  EXPECT_GT(region.border_points, 0u);
+  EXPECT_TRUE(region.list_kept);
+}
+
+TEST(RegionHoldsModel, TheRadiusStopsWhereItsBallHoldsTheModelAndShrinksBack) {
+  PointModel sphere = make_sphere();
+  Deformer deformer(sphere, settings(0.5));
+  // No point of the bounding box is farther from another than its diagonal; the band (the bc
+  // radius, 0.08) on top.
+  Vec3 lo = sphere.position(0), hi = lo;
+  for (std::size_t i = 0; i < sphere.size(); ++i) {
+    const Vec3 p = sphere.position(i);
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  const double holds_all = deformer.set_region_radius(std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::isfinite(holds_all));
+  EXPECT_NEAR(holds_all, norm(hi - lo) + 0.08, 1e-6);
+  EXPECT_EQ(deformer.set_region_radius(1e300), holds_all);
+  EXPECT_EQ(deformer.set_region_radius(holds_all * 0.25), holds_all * 0.25);
+  EXPECT_EQ(deformer.set_region_radius(std::nan("")), deformer.min_region_radius());
+}
+
+}  // namespace
+}  // namespace sculpt::deform
