@@ -174,7 +174,8 @@ void Station::size_region(std::int64_t budget_ns) noexcept {
   // Every finger present may press: size for all of them, nearest points first (the region is
   // a ball around each contact).
   deformer_.set_region_radius(region_sizer_.next_radius(deformer_.settings().region.radius, last_frame_->region_points,
-                                                        probes_.size(), static_cast<double>(budget_ns)));
+                                                        probes_.size(), static_cast<double>(budget_ns),
+                                                        deformer_.model().size()));
 }
 
 void Station::run_frame(std::int64_t budget_ns) noexcept {
@@ -213,7 +214,9 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
   totals_.collisions += frame.collisions;
   totals_.max_region_points = std::max(totals_.max_region_points, frame.region_points);
   totals_.max_region_radius = std::max(totals_.max_region_radius, report_.region_radius);
-  region_sizer_.observe(frame.region_points, frame.collisions, report_.deform_ns);
+  // A region that held the whole model ran as the global frame: every point, no band.
+  const bool whole = frame.region_points >= deformer_.model().size() && frame.border_points == 0;
+  region_sizer_.observe(frame.region_points, frame.collisions, report_.deform_ns, whole);
   // Each frame the deformer applied is a frame of its own in the log (a split step holds
   // several), with consecutive ids, so replay reproduces the step exactly.
   const auto applied = deformer_.frames();

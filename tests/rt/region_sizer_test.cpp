@@ -139,5 +139,53 @@ TEST(RegionSizer, AShareItCannotMeetShrinksAllItMayAndANanBudgetToo) {
   EXPECT_DOUBLE_EQ(sizer.next_radius(0.1, 2000, 5, std::numeric_limits<double>::quiet_NaN()), shrunk);
 }
 
+// Before any global frame: one is tried (infinity, which the deformer clamps to the ball that
+// holds the model and runs as the global frame) once the share would pay for kGlobalTrial of
+// the model at the region's cost per point; a larger model grows its region as before.
+TEST(RegionSizer, AGlobalFrameIsTriedWhenTheShareCouldPayForAPartOfTheModel) {
+  const Frames f;
+  RegionSizer sizer(kFraction);
+  const std::size_t points = f.points(0.02);
+  sizer.observe(points, f.forces, f.cost(points));
+  // What the sizer affords at the region's cost (the fixed part charged to the points).
+  const double afforded = kFraction * kBudgetNs * static_cast<double>(points) / f.cost(points);
+  const auto within = static_cast<std::size_t>(afforded / RegionSizer::kGlobalTrial * 0.99);
+  const auto beyond = static_cast<std::size_t>(afforded / RegionSizer::kGlobalTrial * 1.01);
+  EXPECT_EQ(sizer.next_radius(0.02, points, f.forces, kBudgetNs, within), std::numeric_limits<double>::infinity());
+  EXPECT_DOUBLE_EQ(sizer.next_radius(0.02, points, f.forces, kBudgetNs, beyond),
+                   0.02 * std::sqrt(RegionSizer::kMaxGrowth));
+  // Not before a frame was seen, nor without a force, nor for a NaN budget.
+  EXPECT_EQ(RegionSizer(kFraction).next_radius(0.02, points, f.forces, kBudgetNs, 1), 0.02);
+  EXPECT_EQ(sizer.next_radius(0.02, points, 0, kBudgetNs, 1), 0.02);
+  EXPECT_LT(sizer.next_radius(0.02, points, f.forces, std::numeric_limits<double>::quiet_NaN(), 1), 0.02);
+}
+
+// Once a global frame was seen, its own cost decides: the global frame again while it fits
+// the share; when it did not (a model too large, or more fingers), the region shrinks back from
+// the whole model and the trial is not repeated.
+TEST(RegionSizer, OnceSeenTheGlobalFramesOwnCostDecides) {
+  const Frames f;
+  const double global_per_point_ns = f.per_point_ns / 5.0;  // no queries, no scattered reads
+  const auto global_cost = [&](std::size_t n, std::size_t forces) {
+    return f.fixed_ns + global_per_point_ns * static_cast<double>(n) * static_cast<double>(forces);
+  };
+  const double share = kFraction * kBudgetNs;
+  RegionSizer sizer(kFraction);
+  const std::size_t region = f.points(0.02);
+  sizer.observe(region, f.forces, f.cost(region));
+  // A model whose global frame fits the share with five fingers, not with five times as many
+  // points.
+  const std::size_t small = 30'000;
+  ASSERT_LT(global_cost(small, f.forces), share);
+  ASSERT_GT(global_cost(5 * small, f.forces), share);
+  sizer.observe(small, f.forces, global_cost(small, f.forces), /*global=*/true);
+  EXPECT_EQ(sizer.next_radius(3.0, small, f.forces, kBudgetNs, small), std::numeric_limits<double>::infinity());
+  RegionSizer large_model(kFraction);
+  large_model.observe(region, f.forces, f.cost(region));
+  large_model.observe(5 * small, f.forces, global_cost(5 * small, f.forces), /*global=*/true);
+  const double next = large_model.next_radius(3.0, 5 * small, f.forces, kBudgetNs, 5 * small);
+  EXPECT_DOUBLE_EQ(next, 3.0 * std::sqrt(RegionSizer::kMaxShrink));
+}
+
 }  // namespace
 }  // namespace sculpt::rt
