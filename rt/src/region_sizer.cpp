@@ -39,8 +39,11 @@ double RegionSizer::next_radius(double radius, std::size_t region_points, std::s
   const double per_point_force_ns = std::max(average_ns_, last_ns_);
   const double target_points = share / (per_point_force_ns * f);
   const double ratio = target_points / static_cast<double>(region_points);
+  // After a global frame that did not fit, straight down to the share: the shrink limit is for
+  // a region's own noise, and every step from the whole model would be a frame over it.
+  const double shrink = static_cast<double>(region_points) >= model ? 0.0 : kMaxShrink;
   // Written out rather than std::clamp so that a NaN budget shrinks too.
-  return radius * std::sqrt(ratio > kMaxGrowth ? kMaxGrowth : (ratio > kMaxShrink ? ratio : kMaxShrink));
+  return radius * std::sqrt(ratio > kMaxGrowth ? kMaxGrowth : (ratio > shrink ? ratio : shrink));
 }
 
 }  // namespace sculpt::rt

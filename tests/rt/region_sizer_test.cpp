@@ -161,8 +161,8 @@ TEST(RegionSizer, AGlobalFrameIsTriedWhenTheShareCouldPayForAPartOfTheModel) {
 }
 
 // Once a global frame was seen, its own cost decides: the global frame again while it fits
-// the share; when it did not (a model too large, or more fingers), the region shrinks back from
-// the whole model and the trial is not repeated.
+// the share; when it did not (a model too large, or more fingers), the region goes straight
+// back to what the share pays for, and the trial is not repeated.
 TEST(RegionSizer, OnceSeenTheGlobalFramesOwnCostDecides) {
   const Frames f;
   const double global_per_point_ns = f.per_point_ns / 5.0;  // no queries, no scattered reads
@@ -183,8 +183,11 @@ TEST(RegionSizer, OnceSeenTheGlobalFramesOwnCostDecides) {
   RegionSizer large_model(kFraction);
   large_model.observe(region, f.forces, f.cost(region));
   large_model.observe(5 * small, f.forces, global_cost(5 * small, f.forces), /*global=*/true);
+  // Straight to what the share pays for at the region's cost, past the shrink limit.
+  const double afforded = share * static_cast<double>(region) / f.cost(region);
   const double next = large_model.next_radius(3.0, 5 * small, f.forces, kBudgetNs, 5 * small);
-  EXPECT_DOUBLE_EQ(next, 3.0 * std::sqrt(RegionSizer::kMaxShrink));
+  ASSERT_LT(afforded / (5.0 * small), RegionSizer::kMaxShrink);
+  EXPECT_DOUBLE_EQ(next, 3.0 * std::sqrt(afforded / (5.0 * small)));
 }
 
 }  // namespace

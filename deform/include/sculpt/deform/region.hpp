@@ -39,7 +39,7 @@ class Region {
   Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index, double bc_radius);
 
   /// Collects the region and its border for this frame's contact points. A kRadius region one
-  /// of whose balls, less the band, holds the whole model (model_box()) is every point with no
+  /// of whose balls, less the band, holds the whole model (measure_model()) is every point with no
   /// band: the frame is then global() and nothing is collected, since a global frame moves the
   /// same points by the same bits without the queries, the union and the scattered reads (on
   /// the bundled sphere a region holding all of it took 2.3 times the global frame). A region
@@ -48,13 +48,15 @@ class Region {
 
   /// Every point moves: a kGlobal region, or a kRadius region whose last build() held the model.
   bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal || holds_model_; }
-  /// The box that holds every point: the model's bounding box when it was last measured (at
-  /// construction, and by measure_model() after the model was replaced), widened on each side
-  /// by `moved` when the points moved at most that far since.
+  /// Measures the model's bounding box (at construction, and again whenever the model is
+  /// replaced wholesale): every point stays within it, widened on each side by the moves
+  /// add_move() is told of since. build() and set_radius() judge "holds the model" by it.
   void measure_model(const PointModel& model) noexcept;
   /// Every point moved at most `distance` more (the deformer's stored move of a kept frame).
+  /// NaN or infinity: no ball holds the points any more (build() and set_radius() then never
+  /// call a ball whole).
   void add_move(double distance) noexcept {
-    if (distance > 0.0) moved_since_measure_ += distance;
+    if (!(distance <= 0.0)) moved_since_measure_ += distance;
   }
   /// Points that move, ascending; when global(), every point moves whatever this holds.
   std::span<const std::uint32_t> points() const { return points_; }
@@ -78,6 +80,10 @@ class Region {
   double border_width() const { return border_width_; }
 
  private:
+  // Distance from c to the farthest point of the box the points can be in, with a margin far
+  // above the rounding of the distances the ball queries compare.
+  double farthest_point_bound(const Vec3& c) const noexcept;
+
   RegionSettings settings_;
   double border_width_;
   double min_radius_;
@@ -89,11 +95,7 @@ class Region {
   bool holds_model_ = false;             // the last build's ball held every point
   Vec3 box_lo_{}, box_hi_{};             // the model's bounding box when last measured
   double moved_since_measure_ = 0.0;     // no point moved farther since
-
-  // Distance from c to the farthest point of the box the points can be in, with a margin far
-  // above the rounding of the distances the ball queries compare.
-  double farthest_point_bound(const Vec3& c) const noexcept;
-  PointSet found_, band_found_;  // empty between frames
+  PointSet found_, band_found_;          // empty between frames
 };
 
 }  // namespace sculpt::deform

@@ -46,13 +46,15 @@ class RegionSizer {
   /// some 37 ns per point and force on the bundled sphere, 4 against 15 on two million points)
   /// and leaves no region error, so on a model small against the budget it is both the better
   /// and the cheaper frame. Once a global frame was seen, its own cost decides; before, one is
-  /// tried when the share would pay for a kGlobalTrial-th of the model at the region's cost.
+  /// tried when the share would pay for kGlobalTrial of the model at the region's cost.
+  /// After a global frame that did not fit, the region goes straight to the share (no shrink
+  /// limit); the radius then scales from the ball that held the model.
   double next_radius(double radius, std::size_t region_points, std::size_t forces, double budget_ns,
                      std::size_t model_points = std::numeric_limits<std::size_t>::max()) const noexcept;
 
   /// A global frame is tried when the share pays for this fraction of the model at the
-  /// region's cost per point. Measured, a region's costs at least 3.7 times a global frame's, so
-  /// a trial costs at most 4 / 3.7 of the share: never a tick, whatever the model.
+  /// region's cost per point. Measured here, a region's costs 3.7 times a global frame's or
+  /// more, so a trial costs about 4 / 3.7 of the share at most, within the tick.
   static constexpr double kGlobalTrial = 1.0 / 4.0;
 
   /// The frames' time per point and force, exponentially averaged (nanoseconds).
