@@ -30,7 +30,8 @@ PointModel reordered(const PointModel& model, std::span<const std::uint32_t> ord
 
 /// How local a model's storage is: the fraction of the 8 nearest neighbours of (up to `samples`
 /// evenly spread) points that are stored within 16 places of them, i.e. one 64-byte line of
-/// floats. About 0.1-0.3 for a scan in its scanner's order, 0.5 and more in Z order.
+/// floats. The dragons as fetched 0.26 (100k) and 0.38 (437k), the bust 0.01, the golden
+/// spiral 0.00-0.05; in Z order 0.65-0.73.
 /// `index` must index `model`. 0 for a model of fewer than 9 points.
 double neighbour_locality(const PointModel& model, const PointIndex& index, std::size_t samples = 4096);
 
