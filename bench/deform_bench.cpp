@@ -37,11 +37,12 @@ double heap_bytes() {
   return static_cast<double>(m.uordblks + m.hblkhd);
 }
 
-// A name ending in this is the model before it stored in Z order (sculpt order).
+// A name ending in this names the model before it, stored in Z order (sculpt order).
 const std::string kZOrder = "+z";
 
 // The file a model name reads: the name without its Z-order suffix. Probes are placed on this
-// model's points, so that a Z-ordered copy is pressed at the same places.
+// model's points, and the settings scaled to its spacing, so that a Z-ordered copy is pressed
+// at the same places with the same settings.
 std::string file_of(const std::string& name) {
   return name.ends_with(kZOrder) ? name.substr(0, name.size() - kZOrder.size()) : name;
 }
@@ -109,13 +110,14 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   const std::size_t fingers = static_cast<std::size_t>(state.range(0));
   const double heap_before = heap_bytes();
   PointModel model = *source;
-  const double spacing = typical_spacing(model, PointIndex(model)).value;
+  const PointModel& file = *load(file_of(name));
+  const double spacing = typical_spacing(file, PointIndex(file)).value;
   const DeformSettings settings =
       bench_settings(spacing, precision, region_spacings, threads, normal_skip_bound, fast_inverse_sqrt);
   Deformer deformer(model, settings);
   // The model's arrays and everything the deformer reserved (index, journal, buffers).
   const double bytes_per_point = (heap_bytes() - heap_before) / static_cast<double>(model.size());
-  const std::vector<ProbeMotion> probes = spread_probes(*load(file_of(name)), fingers, spacing);
+  const std::vector<ProbeMotion> probes = spread_probes(file, fingers, spacing);
   std::size_t moved = 0, collisions = 0, normals_kept = 0;
   for (auto _ : state) {
     state.PauseTiming();
@@ -167,11 +169,12 @@ void stroke(benchmark::State& state, const std::string& name, double region_spac
   }
   const std::size_t fingers = static_cast<std::size_t>(state.range(0));
   PointModel model = *source;
-  const double spacing = typical_spacing(model, PointIndex(model)).value;
+  const PointModel& file = *load(file_of(name));
+  const double spacing = typical_spacing(file, PointIndex(file)).value;
   Deformer deformer(model, bench_settings(spacing, Precision::kFloat, region_spacings));
   // Each finger's surface point a, its outward normal n and a direction t along the surface.
   std::vector<Vec3> at, out, along;
-  for (const ProbeMotion& m : spread_probes(*load(file_of(name)), fingers, spacing)) {
+  for (const ProbeMotion& m : spread_probes(file, fingers, spacing)) {
     const Vec3 n = normalized(m.previous - m.current);
     const Vec3 a = m.current + n * spacing;
     const Vec3 axis = std::abs(n.x) < 0.5 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};

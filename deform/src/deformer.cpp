@@ -158,7 +158,7 @@ void Deformer::restore(const PointModel& base) {
   std::copy(base.ny.begin(), base.ny.end(), model_.ny.begin());
   std::copy(base.nz.begin(), base.nz.end(), model_.nz.begin());
   extent_ = largest_coordinate(model_);
-  region_.measure_model(model_);
+  region_.back_to_base();
   if (index_holds_base_) {
     drift_ = 0.0;
     index_.forget_moved();

@@ -42,6 +42,8 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
     }
   }
   measure_model(model);
+  base_lo_ = box_lo_;
+  base_hi_ = box_hi_;
   const std::size_t n = model.size();
   points_.reserve(n);
   border_.reserve(n);
@@ -73,15 +75,16 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
 }
 
 void Region::measure_model(const PointModel& model) noexcept {
-  moved_since_measure_ = 0.0;
-  box_lo_ = box_hi_ = Vec3{};
-  if (model.empty()) return;
-  box_lo_ = box_hi_ = model.position(0);
+  Vec3 lo, hi;
+  if (!model.empty()) lo = hi = model.position(0);
   for (std::size_t i = 1; i < model.size(); ++i) {
     const Vec3 p = model.position(i);
-    box_lo_ = {std::min(box_lo_.x, p.x), std::min(box_lo_.y, p.y), std::min(box_lo_.z, p.z)};
-    box_hi_ = {std::max(box_hi_.x, p.x), std::max(box_hi_.y, p.y), std::max(box_hi_.z, p.z)};
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
+  box_lo_ = lo;
+  box_hi_ = hi;
+  moved_since_measure_ = 0.0;
 }
 
 double Region::farthest_point_bound(const Vec3& c) const noexcept {

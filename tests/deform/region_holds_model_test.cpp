@@ -93,6 +93,13 @@ TEST(RegionHoldsModel, TheRadiusStopsWhereItsBallHoldsTheModelAndShrinksBack) {
   EXPECT_EQ(deformer.set_region_radius(1e300), holds_all);
   EXPECT_EQ(deformer.set_region_radius(holds_all * 0.25), holds_all * 0.25);
   EXPECT_EQ(deformer.set_region_radius(std::nan("")), deformer.min_region_radius());
+  // Moves widen the box the points can be in; an undo to the base narrows it back.
+  const PointModel base = sphere;
+  const ProbeMotion push{{0.0, 0.0, 1.1}, {0.0, 0.0, 0.9}, std::nullopt};
+  ASSERT_EQ(deformer.deform({&push, 1}).collisions, 1u);
+  EXPECT_GT(deformer.set_region_radius(std::numeric_limits<double>::infinity()), holds_all);
+  deformer.restore(base);
+  EXPECT_EQ(deformer.set_region_radius(std::numeric_limits<double>::infinity()), holds_all);
 }
 
 }  // namespace

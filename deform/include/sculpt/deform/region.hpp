@@ -39,7 +39,7 @@ class Region {
   Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index, double bc_radius);
 
   /// Collects the region and its border for this frame's contact points. A kRadius region one
-  /// of whose balls, less the band, holds the whole model (measure_model()) is every point with no
+  /// of whose balls, less the band, holds the whole model (its box, below) is every point with no
   /// band: the frame is then global() and nothing is collected, since a global frame moves the
   /// same points by the same bits without the queries, the union and the scattered reads (on
   /// the bundled sphere a region holding all of it took 2.3 times the global frame). A region
@@ -48,10 +48,16 @@ class Region {
 
   /// Every point moves: a kGlobal region, or a kRadius region whose last build() held the model.
   bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal || holds_model_; }
-  /// Measures the model's bounding box (at construction, and again whenever the model is
-  /// replaced wholesale): every point stays within it, widened on each side by the moves
-  /// add_move() is told of since. build() and set_radius() judge "holds the model" by it.
-  void measure_model(const PointModel& model) noexcept;
+  /// The model is the one this region was constructed on again (the deformer's restore): its
+  /// box as measured then, without a pass over the points (one more pass over a large model
+  /// before a frame left the frame's data out of the caches: the bench's 437k press, which
+  /// restores before every frame, 0.125 to 0.167 ms).
+  void back_to_base() noexcept {
+    box_lo_ = base_lo_;
+    box_hi_ = base_hi_;
+    moved_since_measure_ = 0.0;
+  }
+
   /// Every point moved at most `distance` more (the deformer's stored move of a kept frame).
   /// NaN or infinity: no ball holds the points any more (build() and set_radius() then never
   /// call a ball whole).
@@ -80,6 +86,10 @@ class Region {
   double border_width() const { return border_width_; }
 
  private:
+  // The model's bounding box, measured at construction: every point stays within it, widened
+  // on each side by the moves add_move() is told of since. build() and set_radius() judge
+  // "holds the model" by it.
+  void measure_model(const PointModel& model) noexcept;
   // Distance from c to the farthest point of the box the points can be in, with a margin far
   // above the rounding of the distances the ball queries compare.
   double farthest_point_bound(const Vec3& c) const noexcept;
@@ -94,6 +104,7 @@ class Region {
   bool as_found_complete_ = false;       // as_found_ holds every point of points_
   bool holds_model_ = false;             // the last build's ball held every point
   Vec3 box_lo_{}, box_hi_{};             // the model's bounding box when last measured
+  Vec3 base_lo_{}, base_hi_{};           // and at construction
   double moved_since_measure_ = 0.0;     // no point moved farther since
   PointSet found_, band_found_;          // empty between frames
 };
