@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "coordinate_range.hpp"
 
@@ -82,23 +83,26 @@ void PointModel::validate() const {
   }
 }
 
-double PointModel::bounding_box_diagonal() const {
-  if (empty()) return 0.0;
-  auto extent = [](const std::vector<float>& v) {
+PointModel::Box PointModel::bounding_box() const noexcept {
+  if (empty()) return {};
+  auto span = [](const std::vector<float>& v) {
     const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-    return static_cast<double>(*hi) - static_cast<double>(*lo);
+    return std::pair<double, double>{*lo, *hi};
   };
-  const double dx = extent(x), dy = extent(y), dz = extent(z);
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
+  const auto [x_lo, x_hi] = span(x);
+  const auto [y_lo, y_hi] = span(y);
+  const auto [z_lo, z_hi] = span(z);
+  return {{x_lo, y_lo, z_lo}, {x_hi, y_hi, z_hi}};
+}
+
+double PointModel::bounding_box_diagonal() const {
+  const Box box = bounding_box();
+  return norm(box.hi - box.lo);
 }
 
 Vec3 PointModel::bounding_box_centre() const {
-  if (empty()) return {};
-  auto middle = [](const std::vector<float>& v) {
-    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-    return 0.5 * (static_cast<double>(*lo) + static_cast<double>(*hi));
-  };
-  return {middle(x), middle(y), middle(z)};
+  const Box box = bounding_box();
+  return 0.5 * (box.lo + box.hi);
 }
 
 }  // namespace sculpt::deform

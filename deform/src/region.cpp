@@ -75,15 +75,9 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
 }
 
 void Region::measure_model(const PointModel& model) noexcept {
-  Vec3 lo, hi;
-  if (!model.empty()) lo = hi = model.position(0);
-  for (std::size_t i = 1; i < model.size(); ++i) {
-    const Vec3 p = model.position(i);
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  box_lo_ = lo;
-  box_hi_ = hi;
+  const PointModel::Box box = model.bounding_box();
+  box_lo_ = box.lo;
+  box_hi_ = box.hi;
   moved_since_measure_ = 0.0;
 }
 

@@ -31,14 +31,9 @@ void take(std::vector<T>& attribute, std::span<const std::uint32_t> order) {
 std::vector<std::uint32_t> spatial_order(const PointModel& model) {
   const std::size_t n = model.size();
   if (n == 0) return {};
-  double lo[3], hi[3];
+  const auto [lo, hi] = model.bounding_box();
   const std::vector<float>* axes[3] = {&model.x, &model.y, &model.z};
-  for (int a = 0; a < 3; ++a) {
-    const auto [min, max] = std::minmax_element(axes[a]->begin(), axes[a]->end());
-    lo[a] = *min;
-    hi[a] = *max;
-  }
-  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   // One cube for all three axes, so a cell is as long in each: the order follows distance.
   const double cells = static_cast<double>((std::uint64_t{1} << kBitsPerAxis) - 1);
   const double scale = extent > 0.0 ? cells / extent : 0.0;

@@ -51,5 +51,20 @@ TEST(PointModel, BoundingBoxDiagonalOfUnitCube) {
   EXPECT_DOUBLE_EQ(m.bounding_box_diagonal(), std::sqrt(3.0));
 }
 
+TEST(PointModel, BoundingBoxTakesEachAxisFromItsOwnExtremePoint) {
+  PointModel m;
+  EXPECT_EQ(m.bounding_box().lo, Vec3{});
+  EXPECT_EQ(m.bounding_box().hi, Vec3{});
+  EXPECT_EQ(m.bounding_box_centre(), Vec3{});
+  m.push_back({3, -1, 0.5});
+  m.push_back({-2, 4, 0.25});
+  m.push_back({1, 0, -6});
+  const PointModel::Box box = m.bounding_box();
+  EXPECT_EQ(box.lo, (Vec3{-2, -1, -6}));
+  EXPECT_EQ(box.hi, (Vec3{3, 4, 0.5}));
+  EXPECT_EQ(m.bounding_box_centre(), (Vec3{0.5, 1.5, -2.75}));
+  EXPECT_DOUBLE_EQ(m.bounding_box_diagonal(), std::sqrt(25.0 + 25.0 + 6.5 * 6.5));
+}
+
 }  // namespace
 }  // namespace sculpt::deform

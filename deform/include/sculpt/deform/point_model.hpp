@@ -50,6 +50,11 @@ struct PointModel {
   /// magnitude (naming the point).
   void validate() const;
 
+  /// The axis-aligned bounding box's lowest and highest corner (both the origin for an empty model).
+  struct Box {
+    Vec3 lo, hi;
+  };
+  Box bounding_box() const noexcept;
   /// Axis-aligned bounding box diagonal length (0 for an empty model).
   double bounding_box_diagonal() const;
   /// Centre of the axis-aligned bounding box (the origin for an empty model).
