@@ -108,10 +108,10 @@ void UsbHapticSink::lost_device() noexcept {
   disconnects_.fetch_add(1, std::memory_order_relaxed);
 }
 
-bool UsbHapticSink::write(const HapticCommand& command) noexcept {
+bool UsbHapticSink::write(const HapticCommand& command, std::int64_t stamp_ns) noexcept {
   if (!device_.is_open()) return false;
-  const std::size_t n =
-      encode_haptic_frame(command, sequence_++, base::monotonic_now_us(), std::span<std::uint8_t>(frame_).subspan(1));
+  const std::size_t n = encode_haptic_frame(command, sequence_++, static_cast<std::uint64_t>(stamp_ns / 1000),
+                                            std::span<std::uint8_t>(frame_).subspan(1));
   const std::size_t begin = cut_frame_ ? 0 : 1;  // frame_[0] is a 0x00 delimiter
   const int length = static_cast<int>(1 + n - begin);
   int transferred = 0;
@@ -149,8 +149,10 @@ void UsbHapticSink::write_due(std::int64_t now_ns) noexcept {
       HapticCommand& c = newest_[h];
       if (bound(c, max_force_)) clamped_.fetch_add(1, std::memory_order_relaxed);
       last_tick_[h] = c.tick;
-      last_command_ns_[h] = now_ns;
-      if (write(c)) {
+      // Read after `now_ns` (and after the bound): the frame's stamp, and the start of the
+      // silence a release waits out, are one reading.
+      last_command_ns_[h] = base::monotonic_now_ns();
+      if (write(c, last_command_ns_[h])) {
         written_.fetch_add(1, std::memory_order_relaxed);
         pressing_[h] = carries_force(c);
       } else {
@@ -163,7 +165,7 @@ void UsbHapticSink::write_due(std::int64_t now_ns) noexcept {
     HapticCommand release;
     release.hand = static_cast<std::uint8_t>(h);
     release.tick = last_tick_[h];
-    if (write(release)) {  // otherwise owed still, and tried again each period
+    if (write(release, base::monotonic_now_ns())) {  // otherwise owed still, and tried again each period
       pressing_[h] = false;
       releases_.fetch_add(1, std::memory_order_relaxed);
     }

@@ -87,8 +87,9 @@ class UsbHapticSink final : public HapticSink {
   void take_queue() noexcept;
   /// Writes newest_ and the releases due at `now_ns` (any release owed when `now_ns` < 0).
   void write_due(std::int64_t now_ns) noexcept;
-  /// Encodes and writes one frame; false when it was not written in full.
-  bool write(const HapticCommand& command) noexcept;
+  /// Encodes and writes one frame stamped `stamp_ns` (its device_time_us); false when it was
+  /// not written in full.
+  bool write(const HapticCommand& command, std::int64_t stamp_ns) noexcept;
   void lost_device() noexcept;
 
   UsbConfig config_;
@@ -102,7 +103,8 @@ class UsbHapticSink final : public HapticSink {
   std::array<HapticCommand, kHands> newest_{};
   std::array<bool, kHands> have_{};
   /// Per hand: whether the glove may still be pressing (the last frame carried force or
-  /// contact, or its fate is unknown), the last command's tick and when it came.
+  /// contact, or its fate is unknown), the last command's tick and its frame's stamp (the
+  /// silence is timed from the stamp the glove sees, so a release is never stamped early).
   std::array<bool, kHands> pressing_{};
   std::array<std::uint32_t, kHands> last_tick_{};
   std::array<std::int64_t, kHands> last_command_ns_{};
