@@ -610,6 +610,16 @@ void copy_indexed(IndexOf index_of, std::size_t begin, std::size_t n, std::vecto
   }
 }
 
+// Whether a block's n points are n consecutive points of the model, in order.
+template <typename IndexOf>
+bool consecutive(IndexOf index_of, std::size_t begin, std::size_t n) noexcept {
+  const std::size_t first = index_of(begin);
+  for (std::size_t k = 1; k < n; ++k) {
+    if (index_of(begin + k) != first + k) return false;
+  }
+  return true;
+}
+
 // Where a block's three attributes are worked on: the model's arrays from `begin` in a
 // contiguous pass, the block's copy (gathered here) otherwise.
 template <bool kContiguous, typename IndexOf>
@@ -673,6 +683,29 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
   }
   for (std::size_t begin = first; begin < last; begin += kBlock) {
     const std::size_t n = std::min(kBlock, last - begin);
+    // A gathered pass's block whose points are consecutive in the model (a region holding
+    // much of the model, or one of a model stored in Z order) is worked on in place, like a
+    // contiguous pass's: a gather and a scatter the less, the same arithmetic on the same values.
+    if constexpr (!kContiguous) {
+      if (consecutive(index_of, begin, n)) {
+        const std::size_t at = index_of(begin);
+        const PointArrays run = PointArrays{model.x.data(),  model.y.data(),  model.z.data(),
+                                            model.nx.data(), model.ny.data(), model.nz.data()}
+                                    .at(at);
+        const PointArrays in_place{
+            run.x, run.y, run.z, kCarry ? run.nx : nullptr, kCarry ? run.ny : nullptr, kCarry ? run.nz : nullptr};
+        if (journal) {
+          JournalWriter{*journal}.record<false>(index_of, begin, n, in_place.x, in_place.y, in_place.z, in_place.nx,
+                                                in_place.ny, in_place.nz);
+        }
+        lane_batch.aim(in_place, in_place);
+        bad |= move_block<T, kGradient, kCarry, kBounded>(t, n, in_place, in_place, 0, extremes, lane_batch,
+                                                          skips.skipped);
+        lane_batch.flush(t, extremes, batch_bad);
+        lane_batch.aim(PointArrays{gx, gy, gz, gnx, gny, gnz}, PointArrays{gx, gy, gz, gnx, gny, gnz});
+        continue;
+      }
+    }
     const auto [x, y, z] = block_arrays<kContiguous>(index_of, begin, n, model.x, model.y, model.z, gx, gy, gz);
     float *nx = nullptr, *ny = nullptr, *nz = nullptr;
     if constexpr (kCarry) {

@@ -174,5 +174,55 @@ TEST(FieldLanes, AGlobalPassWritingBesideTheModelIsThePassInPlaceAndItsJournalUn
   }
 }
 
+// A gathered pass (a region's) works a block whose points are consecutive in the model in place,
+// without gathering it. Whichever way a block goes (consecutive, with a gap, descending, a
+// partial last block), each listed point must end with the bytes the global pass gives it (a
+// point's move depends on its position and the sources alone), the others keep theirs, and the
+// journal undoes the pass exactly: exact and bounded normals, carried or not.
+TEST(FieldLanes, ARegionsConsecutiveBlocksMoveInPlaceByTheSameBytesAsTheGlobalPass) {
+  const std::vector<SourceForce> sources = three_sources();
+  const PointModel before = make_sphere(2000);
+  std::vector<std::uint32_t> indices;
+  for (std::uint32_t i = 0; i < 256; ++i) indices.push_back(i);         // two consecutive blocks
+  for (std::uint32_t i = 300; i < 427; ++i) indices.push_back(i);       // 127 consecutive, then
+  indices.push_back(500);                                               // a gap in the same block
+  for (std::uint32_t i = 0; i < 128; ++i) indices.push_back(1000 - i);  // consecutive but descending
+  for (std::uint32_t i = 1100; i < 1300; i += 2) indices.push_back(i);  // scattered
+  for (std::uint32_t i = 1500; i < 1700; ++i) indices.push_back(i);     // a run across a block edge
+  for (std::uint32_t i = 1901; i < 1950; ++i) indices.push_back(i);     // a consecutive partial last block
+  for (bool carry : {true, false}) {
+    for (double skip_bound : {0.0, 0.02}) {
+      SCOPED_TRACE(::testing::Message() << (carry ? "normals carried" : "positions only") << ", skip bound "
+                                        << skip_bound);
+      FieldOptions options;
+      options.carry_normals = carry;
+      options.normal_skip_bound = skip_bound;
+      PointModel global = before;
+      ASSERT_TRUE(apply_displacements(global, kKernel, sources, {}, true, options, true).finite);
+      PointModel region = before;
+      UndoJournal journal;
+      journal.reserve(indices.size(), true);
+      const FieldResult r = apply_displacements(region, kKernel, sources, indices, false, options, true, &journal);
+      ASSERT_TRUE(r.finite);
+      if (skip_bound > 0.0) {  // both kinds of point: kept normals, and gradients batched
+        EXPECT_GT(r.gradients_skipped, 0u);
+        EXPECT_LT(r.gradients_skipped, indices.size());
+      }
+      std::vector<bool> listed(before.size(), false);
+      for (std::uint32_t i : indices) listed[i] = true;
+      std::size_t moved = 0;
+      for (std::size_t i = 0; i < before.size(); ++i) {
+        const PointModel& expected = listed[i] ? global : before;
+        ASSERT_EQ(region.position(i), expected.position(i)) << "point " << i << (listed[i] ? " listed" : "");
+        ASSERT_EQ(region.normal(i), expected.normal(i)) << "point " << i << (listed[i] ? " listed" : "");
+        moved += listed[i] && region.position(i) != before.position(i);
+      }
+      EXPECT_GT(moved, indices.size() / 2);
+      journal.restore(region);
+      EXPECT_TRUE(same_bytes(region, before));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sculpt::deform
