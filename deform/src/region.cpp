@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -102,20 +103,28 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   border_.clear();
   as_found_.clear();
   as_found_complete_ = true;
+  scanned_ = false;
   // Every point within radius - band of one contact: all move, none is in the band.
   const double inner = settings_.radius - border_width_;
   holds_model_ =
       std::any_of(contacts.begin(), contacts.end(), [&](const Vec3& c) { return farthest_point_bound(c) <= inner; });
   if (holds_model_) return;
+  const double inner_squared = inner * inner;
+  if (scan_pays(model.size(), contacts.size())) {
+    scan(model, contacts, inner_squared);
+    holds_model_ = points_.size() == model.size() && border_.empty();
+    return;
+  }
+  found_last_ = 0;
   // Overlapping balls repeat points: past the reserve the order is dropped, not grown.
   const auto keep_as_found = [&] {
+    found_last_ += scratch_.size();
     if (as_found_.size() + scratch_.size() <= as_found_.capacity()) {
       as_found_.insert(as_found_.end(), scratch_.begin(), scratch_.end());
     } else {
       as_found_complete_ = false;
     }
   };
-  const double inner_squared = inner * inner;
   if (balls_apart(contacts, settings_.radius)) {
     // Fingers apart (the common case): a point can only be deep in the ball that found it, so
     // the band is decided as each ball's points come, without a test against every contact.
@@ -148,6 +157,51 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   }
   // The balls held every point after all (the box's corners lie beyond the model's points).
   holds_model_ = points_.size() == model.size() && border_.empty();
+}
+
+bool Region::scan_pays(std::size_t model_points, std::size_t contacts) const noexcept {
+  // Measured on the bundled sphere and the dragons (README, issue 10): a found point costs
+  // the queries about as much as kScanShare point-contact tests of a scan.
+  constexpr std::size_t kScanShare = 16;
+  return found_last_ * kScanShare >= model_points * contacts;
+}
+
+void Region::scan(const PointModel& model, std::span<const Vec3> contacts, double inner_squared) noexcept {
+  as_found_complete_ = false;  // points() is the order found
+  scanned_ = true;
+  found_last_ = 0;
+  const double radius_squared = settings_.radius * settings_.radius;
+  // A chunk's smallest squared distance to any contact, one contact at a time so that the
+  // inner loop runs over contiguous coordinates (and vectorises).
+  constexpr std::size_t kChunk = 256;
+  alignas(64) double nearest[kChunk];
+  const std::size_t n = model.size();
+  for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    const std::size_t count = std::min(kChunk, n - begin);
+    const float* x = model.x.data() + begin;
+    const float* y = model.y.data() + begin;
+    const float* z = model.z.data() + begin;
+    for (std::size_t k = 0; k < count; ++k) nearest[k] = std::numeric_limits<double>::infinity();
+    for (const Vec3& c : contacts) {
+      std::size_t within = 0;
+      for (std::size_t k = 0; k < count; ++k) {
+        // squared_norm(position - c), as the queries and the band test compute it
+        const double dx = static_cast<double>(x[k]) - c.x;
+        const double dy = static_cast<double>(y[k]) - c.y;
+        const double dz = static_cast<double>(z[k]) - c.z;
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        within += d2 <= radius_squared ? 1 : 0;
+        nearest[k] = d2 < nearest[k] ? d2 : nearest[k];
+      }
+      found_last_ += within;
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      if (!(nearest[k] <= radius_squared)) continue;
+      const auto i = static_cast<std::uint32_t>(begin + k);
+      points_.push_back(i);
+      if (!(nearest[k] <= inner_squared)) border_.push_back(i);
+    }
+  }
 }
 
 }  // namespace sculpt::deform

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -90,6 +91,53 @@ TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
   EXPECT_FALSE(region.global());
   EXPECT_EQ(std::vector<std::uint32_t>(region.points().begin(), region.points().end()),
             brute_force(model, pole_and_equator, 0.3, 0.3 - region.border_width()).points);
+}
+
+// Balls that hold a large share of the model are cheaper to collect by testing every point
+// (Region::scan_pays, judged by what the last build found). A stroke that grows its radius
+// until the builds scan and shrinks it until they query again, with points moved under a drift
+// between builds: every build is the brute-force union and band of the points where they are
+// now, whichever way it was collected, and both ways are met.
+TEST(Region, BuildsThatScanEveryPointCollectWhatTheQueriesWould) {
+  const PointModel original = make_sphere(5000);
+  PointModel model = original;
+  const PointIndex index(original);  // built before the moves: queries allow for the drift
+  RegionSettings settings;
+  settings.kind = RegionSettings::Kind::kRadius;
+  settings.radius = 0.2;
+  Region region(settings, model, index, 0.02);
+  const double drift = 0.01;
+  int scanned = 0, queried = 0;
+  for (int frame = 0; frame < 24; ++frame) {
+    // The radius grows to 1.3 and back; three fingers slide along the sphere, two of them close.
+    const double radius = 0.2 + 1.1 * std::sin(3.14159 * frame / 23.0);
+    region.set_radius(radius);
+    const double a = 0.05 * frame;
+    const std::vector<Vec3> contacts = {{std::cos(a), std::sin(a), 0.0},
+                                        {std::cos(a + 0.1), std::sin(a + 0.1), 0.05},
+                                        {0.0, std::sin(a), -std::cos(a)}};
+    // Points near the first finger sink by up to the drift from where the index has them, as
+    // a press would leave them.
+    for (std::size_t i = 0; i < model.size(); ++i) {
+      const Vec3 p = original.position(i);
+      const double closeness = std::max(0.0, 1.0 - norm(p - contacts[0]) / 0.3);
+      model.set_position(i, p * (1.0 - 0.9 * drift * closeness));
+      ASSERT_LE(norm(model.position(i) - p), drift);
+    }
+    region.build(model, index, drift, contacts);
+    SCOPED_TRACE(::testing::Message() << "frame " << frame << ", radius " << radius);
+    const Expected e = brute_force(model, contacts, radius, radius - region.border_width());
+    if (region.global()) {
+      EXPECT_EQ(e.points.size(), model.size());
+      EXPECT_TRUE(e.border.empty());
+      continue;
+    }
+    EXPECT_EQ(std::vector<std::uint32_t>(region.points().begin(), region.points().end()), e.points);
+    EXPECT_EQ(std::vector<std::uint32_t>(region.border().begin(), region.border().end()), e.border);
+    (region.scanned() ? scanned : queried) += 1;
+  }
+  EXPECT_GE(scanned, 3);
+  EXPECT_GE(queried, 3);
 }
 
 }  // namespace

@@ -44,6 +44,9 @@ class Region {
   /// same points by the same bits without the queries, the union and the scattered reads (on
   /// the bundled sphere a region holding all of it took 2.3 times the global frame). A region
   /// whose balls turn out to hold every point deep inside is global() too, its queries paid.
+  /// When the last build's balls found many points for the model's size, every point is tested
+  /// instead, in the order of the arrays (scan_pays()): the same points and band, ascending,
+  /// whichever way.
   void build(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts);
 
   /// Every point moves: a kGlobal region, or a kRadius region whose last build() held the model.
@@ -74,6 +77,8 @@ class Region {
   std::span<const std::uint32_t> points_as_found() const {
     return as_found_complete_ ? std::span<const std::uint32_t>(as_found_) : points();
   }
+  /// Whether the last build() tested every point rather than querying the index.
+  bool scanned() const { return scanned_; }
   /// Points of the pinned band, ascending; a subset of points().
   std::span<const std::uint32_t> border() const { return border_; }
   const RegionSettings& settings() const { return settings_; }
@@ -93,6 +98,15 @@ class Region {
   // Distance from c to the farthest point of the box the points can be in, with a margin far
   // above the rounding of the distances the ball queries compare.
   double farthest_point_bound(const Vec3& c) const noexcept;
+  // Whether testing each of the model's points against each contact costs less than the ball
+  // queries, judged by what the last build's balls found: a query pays a few nanoseconds for
+  // every point it finds (the tree's leaves, the union, the band test at scattered positions),
+  // a scan well under one for every point and contact.
+  bool scan_pays(std::size_t model_points, std::size_t contacts) const noexcept;
+  // build() by testing every point: a point is in the region when within the radius of a
+  // contact, in the band unless within radius - band of one, by the same comparisons the
+  // queries make.
+  void scan(const PointModel& model, std::span<const Vec3> contacts, double inner_squared) noexcept;
 
   RegionSettings settings_;
   double border_width_;
@@ -107,6 +121,8 @@ class Region {
   Vec3 base_lo_{}, base_hi_{};           // and at construction
   double moved_since_measure_ = 0.0;     // no point moved farther since
   PointSet found_, band_found_;          // empty between frames
+  std::size_t found_last_ = 0;           // points the last build's balls held, once per ball
+  bool scanned_ = false;                 // the last build scanned
 };
 
 }  // namespace sculpt::deform
