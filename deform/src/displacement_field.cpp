@@ -644,8 +644,9 @@ struct PassExtremes {
 };
 
 // Each block: record the old positions (and normals) in the journal, then move it a register at
-// a time (move_block). When every point moves (kContiguous) the block works in place on the
-// model's arrays; otherwise on a gathered copy, scattered back at the end. The extremes are kept
+// a time (move_block). When every point moves (kContiguous), or the block's points are
+// consecutive in the model, the block works in place on the model's arrays; otherwise on a
+// gathered copy, scattered back at the end. The extremes are kept
 // per block lane and reduced once at the end: max and min are exact whatever the order.
 // Covers the pass's points first .. last - 1 (first a multiple of kBlock).
 // With kBounded, the gradient is computed only where its bound exceeds the table's skip_bound.
