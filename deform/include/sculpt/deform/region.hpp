@@ -103,6 +103,9 @@ class Region {
   // every point they find (the tree's leaves, the union, the band test at scattered
   // positions), a scan about one for every point and contact.
   bool scan_pays(std::size_t model_points, std::size_t contacts) const noexcept;
+  // build()'s points and band once no single ball holds the model: by a scan or by the queries.
+  void collect(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts,
+               double inner_squared);
   // build() by testing every point: a point is in the region when within the radius of a
   // contact, in the band unless within radius - band of one, by the same comparisons the
   // queries make.
