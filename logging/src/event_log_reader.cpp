@@ -28,7 +28,7 @@ std::string hex32(std::uint32_t value) {
 
 }  // namespace
 
-EventLogReader::EventLogReader(const std::string& path) : path_(path) {
+EventLogReader::EventLogReader(const std::string& path, std::uint64_t start) : path_(path), position_(start) {
   file_ = std::fopen(path.c_str(), "rb");
   if (file_ == nullptr) throw LogFileError(path + ": cannot open: " + std::strerror(errno));
   struct stat info {};
@@ -40,6 +40,12 @@ EventLogReader::EventLogReader(const std::string& path) : path_(path) {
                        (saved != 0 ? std::string(": ") + std::strerror(saved) : std::string()));
   }
   size_ = static_cast<std::uint64_t>(info.st_size);
+  if (start > size_) {
+    std::fclose(file_);
+    file_ = nullptr;
+    throw LogFileError(path + ": byte offset " + std::to_string(start) + " is past the file's end (" +
+                       std::to_string(size_) + " bytes)");
+  }
 }
 
 EventLogReader::~EventLogReader() {

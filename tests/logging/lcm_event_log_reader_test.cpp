@@ -168,6 +168,36 @@ TEST(EventLogReader, ReadsEveryEventWithItsOffset) {
   EXPECT_EQ(reader.skipped_bytes(), 0u);
 }
 
+TEST(EventLogReader, StartsAtTheEndOfAnEventAnEarlierReaderReturned) {
+  const std::string path = temp_path("resumed.lcmlog");
+  const Written written = write_mixed(path);
+  LogEvent event;
+  {
+    EventLogReader first(path);
+    ASSERT_EQ(first.next(event), Result::kEvent);
+    ASSERT_EQ(first.next(event), Result::kEvent);
+  }
+  EXPECT_EQ(end_of(event), written.offsets[2]);  // LCM's writer put the third event there
+  EventLogReader resumed(path, end_of(event));
+  for (std::size_t i = 2; i < 5; ++i) {
+    ASSERT_EQ(resumed.next(event), Result::kEvent) << resumed.error();
+    EXPECT_EQ(event.offset, written.offsets[i]);
+    EXPECT_EQ(event.number, static_cast<std::int64_t>(i));
+  }
+  EXPECT_EQ(end_of(event), written.size);
+  EXPECT_EQ(resumed.next(event), Result::kEnd);
+
+  EventLogReader at_end(path, written.size);
+  EXPECT_EQ(at_end.next(event), Result::kEnd);
+  try {
+    EventLogReader past(path, written.size + 1);
+    FAIL() << "no throw";
+  } catch (const LogFileError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find("byte offset " + std::to_string(written.size + 1)), std::string::npos) << what;
+  }
+}
 TEST(EventLogReader, TruncatedInsideAHeader) {
   const std::string path = temp_path("truncated_header.lcmlog");
   const Written written = write_mixed(path);

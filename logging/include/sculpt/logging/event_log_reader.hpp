@@ -33,6 +33,10 @@ struct LogEvent {
 
 inline constexpr std::uint32_t kLogSyncWord = 0xEDA1DA01u;
 inline constexpr std::size_t kLogHeaderSize = 4 + 8 + 8 + 4 + 4;
+/// The byte offset just past `event` in its file: where the next event begins.
+inline std::uint64_t end_of(const LogEvent& event) noexcept {
+  return event.offset + kLogHeaderSize + event.channel.size() + event.data.size();
+}
 /// Longest channel name accepted. LCM itself allows 63 characters; a little slack keeps
 /// foreign logs readable while still rejecting garbage lengths at once.
 inline constexpr std::int32_t kMaxLogChannelLength = 255;
@@ -44,8 +48,11 @@ class EventLogReader {
  public:
   enum class Result { kEvent, kEnd, kCorrupt };
 
-  /// @throw LogFileError naming the path when the file cannot be opened or sized.
-  explicit EventLogReader(const std::string& path);
+  /// Reads from byte offset `start`: 0, or the end of an event an earlier reader returned (a
+  /// reader of a log that is still growing goes on from there).
+  /// @throw LogFileError naming the path when the file cannot be opened or sized, or is shorter
+  /// than `start`.
+  explicit EventLogReader(const std::string& path, std::uint64_t start = 0);
   ~EventLogReader();
   EventLogReader(const EventLogReader&) = delete;
   EventLogReader& operator=(const EventLogReader&) = delete;
