@@ -8,6 +8,7 @@
 #include <set>
 #include <vector>
 
+#include "catch_up_log.hpp"
 #include "frame_follower.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/rt/scene.hpp"
@@ -32,7 +33,11 @@ class InjectedGap : public SessionFolder {
     rt::FrameTransfer transfer(setup.model, options);
     view::FrameFollower::CatchUpSource source;
     const std::string log_path = (dir_ / "sphere-press.lcmlog").string();
-    if (catch_up) source = [&](std::int64_t a, std::int64_t b) { return view::catch_up_from(log_path, a, b); };
+    if (catch_up) {
+      source = [log = std::make_shared<view::CatchUpLog>(log_path)](std::int64_t a, std::int64_t b) {
+        return log->events(a, b);
+      };
+    }
     follower_ = std::make_unique<view::FrameFollower>(
         [&](std::span<const logging::CollisionRecord> f) { transfer.apply(f); }, source);
     for (const view::TickSeen& t : log.ticks) follower_->tick(t.tick, t.collisions, 0);

@@ -1,6 +1,5 @@
 #include "session_log.hpp"
 
-#include "frame_follower.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt/logging/event_log_walk.hpp"
@@ -9,14 +8,19 @@
 
 namespace sculpt::view {
 
+bool collision_from(const logging::LogEvent& event, logging::CollisionRecord& out) {
+  sculpt_lcm::collision_event_t message;
+  std::string error;
+  return logging::decode(event, message, error) && logging::from_lcm(message, out);
+}
+
 SessionLog read_session_log(const std::string& path) {
   SessionLog log;
   const auto take = [&](const logging::LogEvent& event) {
     std::string error;
     if (event.channel == logging::kCollisionChannel) {
-      sculpt_lcm::collision_event_t message;
       logging::CollisionRecord record;
-      if (logging::decode(event, message, error) && logging::from_lcm(message, record)) {
+      if (collision_from(event, record)) {
         log.collisions.push_back(record);
       } else {
         ++log.damaged;
@@ -43,16 +47,6 @@ SessionLog read_session_log(const std::string& path) {
   };
   logging::for_each_event(path, take, [&](std::uint64_t, const std::string&) { ++log.damaged; });
   return log;
-}
-
-CatchUpResult catch_up_from(const std::string& path, std::int64_t first, std::int64_t last) {
-  CatchUpResult result;
-  // A log still being written ends in a cut event; that is its unflushed tail, not damage.
-  for (const logging::CollisionRecord& r : read_session_log(path).collisions) {
-    if (r.frame_id >= first && r.frame_id <= last) result.events.push_back(r);
-    if (r.frame_id > last) result.reached = true;
-  }
-  return result;
 }
 
 }  // namespace sculpt::view

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "frame_follower.hpp"
+#include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt/logging/records.hpp"
 #include "view_state.hpp"
 
@@ -24,8 +24,7 @@ struct SessionLog {
 /// cannot be read at all.
 SessionLog read_session_log(const std::string& path);
 
-/// The log's events for frame ids [first, last], and whether it reaches past `last` (see
-/// CatchUpResult): reread on each call, since the station is still appending to it.
-CatchUpResult catch_up_from(const std::string& path, std::int64_t first, std::int64_t last);
+/// One SCULPT_COLLISION event's record; false when its payload does not decode.
+bool collision_from(const logging::LogEvent& event, logging::CollisionRecord& out);
 
 }  // namespace sculpt::view

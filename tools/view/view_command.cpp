@@ -21,6 +21,7 @@
 #include <variant>
 #include <vector>
 
+#include "catch_up_log.hpp"
 #include "commands.hpp"
 #include "frame_follower.hpp"
 #include "image_window.hpp"
@@ -173,8 +174,8 @@ class ViewCommand final : public Command {
     view::LcmReceiver receiver(url_);
     view::FrameFollower::CatchUpSource catch_up;
     if (!catch_up_path_.empty()) {
-      catch_up = [path = catch_up_path_](std::int64_t first, std::int64_t last) {
-        return view::catch_up_from(path, first, last);
+      catch_up = [log = std::make_shared<view::CatchUpLog>(catch_up_path_)](std::int64_t first, std::int64_t last) {
+        return log->events(first, last);
       };
     }
     view::FrameFollower follower([this](std::span<const logging::CollisionRecord> f) { apply_frame(f); },
