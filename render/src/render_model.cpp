@@ -47,9 +47,7 @@ std::vector<SplatClass> make_splat_classes(const deform::PointModel& model) {
 
 }  // namespace
 
-RenderModel::RenderModel(const deform::PointModel& model) {
-  if (model.empty()) throw std::invalid_argument("the model has no points to draw");
-  triangles_ = model.triangles;
+void RenderModel::take_positions(const deform::PointModel& model) {
   const std::size_t n = model.size();
   positions_.resize(3 * n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -57,7 +55,9 @@ RenderModel::RenderModel(const deform::PointModel& model) {
     positions_[3 * i + 1] = model.y[i];
     positions_[3 * i + 2] = model.z[i];
   }
+}
 
+void RenderModel::take_normals(const deform::PointModel& model) {
   // Normals are only for shading, so the estimate works on a copy rather than asking the
   // caller to give up a const model.
   const deform::PointModel* with_normals = &model;
@@ -67,6 +67,7 @@ RenderModel::RenderModel(const deform::PointModel& model) {
     deform::ensure_normals(copy);
     with_normals = &copy;
   }
+  const std::size_t n = model.size();
   normals_.resize(3 * n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 u = normalized(with_normals->normal(i));
@@ -74,7 +75,15 @@ RenderModel::RenderModel(const deform::PointModel& model) {
     normals_[3 * i + 1] = static_cast<float>(u.y);
     normals_[3 * i + 2] = static_cast<float>(u.z);
   }
+}
 
+RenderModel::RenderModel(const deform::PointModel& model) {
+  if (model.empty()) throw std::invalid_argument("the model has no points to draw");
+  triangles_ = model.triangles;
+  take_positions(model);
+  take_normals(model);
+
+  const std::size_t n = model.size();
   colors_.resize(3 * n);
   for (std::size_t i = 0; i < n; ++i) {
     const bool own = model.has_colors();
@@ -85,6 +94,15 @@ RenderModel::RenderModel(const deform::PointModel& model) {
 
   // Splats as wide as the gaps around each point, so the points close into a surface.
   if (triangles_.empty()) splat_classes_ = make_splat_classes(model);
+}
+
+void RenderModel::follow(const deform::PointModel& model) {
+  if (model.size() != size()) {
+    throw std::invalid_argument("a model of " + std::to_string(model.size()) + " points cannot move one of " +
+                                std::to_string(size()));
+  }
+  take_positions(model);
+  take_normals(model);
 }
 
 void RenderModel::set_colors(const std::vector<Rgb>& colors) {

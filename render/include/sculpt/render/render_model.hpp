@@ -34,6 +34,14 @@ class RenderModel {
   /// (all points coincide) when it has no faces to draw.
   explicit RenderModel(const deform::PointModel& model);
 
+  /// The same model after a deformation: takes its positions and normals (recomputed as the
+  /// constructor does when it has none) and keeps the colours and the splat sizes, which stay
+  /// those of the model this was built from. A live view calls this for every frame and builds
+  /// anew once the model is still, since measuring the spacing of every point costs far more
+  /// than the copy (0.41-0.48 s against 2 ms for 437,645 points here). Throws std::invalid_argument
+  /// when the point count is not this model's.
+  void follow(const deform::PointModel& model);
+
   /// Replaces the base colours (one per point; e.g. a heat map). Throws std::invalid_argument
   /// when the count is not the model's.
   void set_colors(const std::vector<Rgb>& colors);
@@ -51,6 +59,9 @@ class RenderModel {
   const std::vector<std::uint32_t>& triangles() const { return triangles_; }
 
  private:
+  void take_positions(const deform::PointModel& model);
+  void take_normals(const deform::PointModel& model);
+
   std::vector<float> positions_, normals_, colors_;
   std::vector<std::uint32_t> triangles_;
   std::vector<SplatClass> splat_classes_;
