@@ -299,20 +299,35 @@ class RunCommand final : public Command {
             {"index_rebuilds", t.index_rebuilds},
             {"faults", faults},
             {"guards", guards_json(t.guards)},
-            {"haptic", haptic_json(station.haptic(), loop)}};
+            {"haptic", haptic_json(station.haptic(), t, loop)}};
   }
 
   // What reached the glove's actuators: a serial line slower than the loop delivers fewer
   // commands than the loop sent (the newest per hand; the rest superseded), and says so here.
-  static nlohmann::json haptic_json(const hal::HapticSink* sink, const rt::FixedRateLoop& loop) {
+  // Per hand that touched, the rate while it did: commands the sink took per second in contact,
+  // which the loop's rate bounds (a command every tick in contact).
+  static nlohmann::json haptic_json(const hal::HapticSink* sink, const rt::StationTotals& t,
+                                    const rt::FixedRateLoop& loop) {
     if (!sink) return nullptr;
-    const double seconds =
-        loop.achieved_rate() > 0.0 ? static_cast<double>(loop.stats().ticks) / loop.achieved_rate() : 0.0;
+    const double rate = loop.achieved_rate();
+    const double seconds = rate > 0.0 ? static_cast<double>(loop.stats().ticks) / rate : 0.0;
+    nlohmann::json in_contact = nlohmann::json::array();
+    for (std::size_t hand = 0; hand < t.contact_ticks.size(); ++hand) {
+      if (t.contact_ticks[hand] == 0) continue;
+      const double contact_s = rate > 0.0 ? static_cast<double>(t.contact_ticks[hand]) / rate : 0.0;
+      in_contact.push_back(
+          {{"hand", hand},
+           {"ticks", t.contact_ticks[hand]},
+           {"commands", t.contact_commands[hand]},
+           {"seconds", contact_s},
+           {"rate_hz", contact_s > 0.0 ? static_cast<double>(t.contact_commands[hand]) / contact_s : 0.0}});
+    }
     return {{"sink", sink->name()},
             {"delivered", sink->delivered()},
             {"superseded", sink->superseded()},
             {"dropped", sink->dropped()},
-            {"delivered_rate_hz", seconds > 0.0 ? static_cast<double>(sink->delivered()) / seconds : 0.0}};
+            {"delivered_rate_hz", seconds > 0.0 ? static_cast<double>(sink->delivered()) / seconds : 0.0},
+            {"in_contact", in_contact}};
   }
 
   CLI::App* sub_ = nullptr;

@@ -304,7 +304,11 @@ void Station::send_haptics() noexcept {
     const bool heartbeat = now_ns_ - last_command_ns_[hand] >= heartbeat_ns;
     hand_touching_[hand] = touching;
     if (!touching && !released && !heartbeat) continue;
-    haptic_->send(command);
+    const bool taken = haptic_->send(command);
+    if (touching) {
+      ++totals_.contact_ticks[hand];
+      if (taken) ++totals_.contact_commands[hand];
+    }
     last_command_ns_[hand] = now_ns_;
     if (recorder_) recorder_->haptic(command);
   }

@@ -452,6 +452,19 @@ Contact expect_felt_as_a_glove(const HapticCapture& c, const char* line) {
   }
   EXPECT_FALSE(c.frames.back().in_contact);
   EXPECT_EQ(c.frames.back().force, 0.0);
+  // The summary's own account of the contact: the sink took a command every tick the hand was
+  // in it (a slow line supersedes after that), and the line carried at most those.
+  const nlohmann::json& touched = c.haptic["in_contact"];
+  if (touched.size() != 1u) {
+    ADD_FAILURE() << "one hand touched: " << touched.dump();
+  } else {
+    EXPECT_EQ(touched[0]["hand"].get<int>(), 0);
+    const auto summary_ticks = touched[0]["ticks"].get<std::uint64_t>();
+    EXPECT_EQ(touched[0]["commands"].get<std::uint64_t>(), summary_ticks);
+    EXPECT_GE(summary_ticks, contact.ticks) << "the line saw contact over more ticks than the station counted";
+    EXPECT_LE(in_contact, summary_ticks);
+    EXPECT_GT(touched[0]["rate_hz"].get<double>(), 0.0);
+  }
   std::printf(
       "[ hil ] serial haptic, %s: %zu frames (%.1f bytes each), %zu in contact over %u ticks (%.0f Hz by "
       "the sender's clock), %llu superseded, longest gap %u ticks, peak %.3f N, steepest rise %.1f N/s; "

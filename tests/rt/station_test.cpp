@@ -336,6 +336,56 @@ TEST(Station, HapticsEveryTickBoundedSlewLimitedAndReleasedInOneTick) {
   EXPECT_LE(haptics.size() - idle_begin, 6u);
 }
 
+// A sink whose queue is full every third time it is offered a command.
+class SometimesFullSink final : public hal::HapticSink {
+ public:
+  void start() override {}
+  void stop() override {}
+  bool send(const hal::HapticCommand& c) noexcept override {
+    const bool taken = ++offered_ % 3 != 0;
+    if (taken && c.active_mask != 0) ++taken_in_contact;
+    return taken;
+  }
+  std::uint64_t dropped() const noexcept override { return offered_ / 3; }
+  std::uint64_t delivered() const noexcept override { return offered_ - offered_ / 3; }
+  const char* name() const noexcept override { return "sometimes full"; }
+
+  std::uint64_t taken_in_contact = 0;
+
+ private:
+  std::uint64_t offered_ = 0;
+};
+
+TEST(Station, CountsEachHandsTicksInContactAndTheCommandsItsSinkTookInThem) {
+  deform::PointModel sphere = deform::make_sphere();
+  auto glove = std::make_unique<FakeGlove>();
+  FakeGlove* g = glove.get();
+  auto sink = std::make_unique<SometimesFullSink>();
+  const SometimesFullSink* counted = sink.get();
+  Station station(sphere, press_settings(), std::move(glove), std::move(sink));
+  station.start();
+  // Down onto the pole, a hold, and off again; the test counts the ticks in contact itself.
+  std::int64_t now = 0;
+  std::uint64_t ticks_in_contact = 0;
+  for (int i = 0; i <= 60; ++i) {
+    const double z = i <= 14 ? 1.2 - 0.02 * i : (i < 50 ? 1.2 - 0.02 * 14 : 1.3);
+    for (int t = 0; t < 5; ++t) {
+      now += kMs;
+      if (t == 0) g->feed({0.0, 0.0, z}, now, static_cast<std::uint64_t>(now / 1000));
+      station.tick(now, kMs);
+      ticks_in_contact += station.fingers()[0].in_contact ? 1 : 0;
+    }
+  }
+  station.stop();
+  ASSERT_GT(ticks_in_contact, 100u);
+  const StationTotals& totals = station.totals();
+  EXPECT_EQ(totals.contact_ticks[0], ticks_in_contact);
+  EXPECT_EQ(totals.contact_commands[0], counted->taken_in_contact);
+  EXPECT_LT(totals.contact_commands[0], totals.contact_ticks[0]) << "the refusals must show";
+  EXPECT_EQ(totals.contact_ticks[1], 0u);
+  EXPECT_EQ(totals.contact_commands[1], 0u);
+}
+
 TEST(Station, RejectsBadFingerLists) {
   deform::PointModel sphere = deform::make_sphere();
   StationSettings s = press_settings();

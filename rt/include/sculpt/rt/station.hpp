@@ -97,6 +97,10 @@ struct StationTotals {
   /// Strokes whose summed reaction stopped being finite: the finger's force is released (the
   /// safe state), its sum restarted, and the station goes on. Never expected; counted if it is.
   std::uint64_t haptic_faults = 0;
+  /// Per hand: ticks it was in contact, and commands its haptic sink took in those ticks (a
+  /// command every such tick is the promise; a full queue or a dead link shows as fewer).
+  std::array<std::uint64_t, hal::kHands> contact_ticks{};
+  std::array<std::uint64_t, hal::kHands> contact_commands{};
 };
 
 /// Everything is allocated by the constructor; tick() allocates nothing, throws nothing and
