@@ -23,12 +23,13 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// The camera the viewer printed ("view: camera eye X Y Z target X Y Z up X Y Z fov F size WxH").
-render::Camera printed_camera(const std::string& output) {
+// The k-th camera the viewer printed ("view: camera eye X Y Z target X Y Z up X Y Z fov F size
+// WxH"): the first when its window opened, one more for each camera key.
+render::Camera printed_camera(const std::string& output, std::size_t k = 0) {
   const std::vector<std::string> lines = lines_starting(output, "view: camera ");
   render::Camera c;
-  if (lines.empty()) return c;
-  std::istringstream in(lines.front());
+  if (lines.size() <= k) return c;
+  std::istringstream in(lines[k]);
   std::string word;
   char x = 0;
   in >> word >> word >> word >> c.eye.x >> c.eye.y >> c.eye.z >> word >> c.target.x >> c.target.y >> c.target.z >>
@@ -53,6 +54,7 @@ class LiveView : public ViewSession {
     EXPECT_TRUE(wait_for_line(dir_ / name, "view: following", 60s)) << read_text(dir_ / name);
     return viewer;
   }
+  static void expect_camera_keys(const fs::path& out);
 };
 
 TEST_F(LiveView, TheCopyIsTheStationsModelAndTheScreenshotShowsTheDent) {
@@ -121,6 +123,36 @@ TEST_F(LiveView, TheCopyIsTheStationsModelAndTheScreenshotShowsTheDent) {
   EXPECT_EQ(corner, 0);
 }
 
+// d, w, z and r (up is z): an orbit of 15 degrees about the up axis at the same height and
+// distance, a tilt of 10 degrees up, a fifth closer along the same line, and the first view
+// again, each camera printed as it is placed; the target never moves.
+void LiveView::expect_camera_keys(const fs::path& out) {
+  ASSERT_TRUE(send_keys("d w z r"));
+  const auto end = std::chrono::steady_clock::now() + 20s;
+  while (lines_starting(read_text(out), "view: camera ").size() < 5 && std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(50ms);
+  }
+  const std::string text = read_text(out);
+  const std::vector<std::string> lines = lines_starting(text, "view: camera ");
+  ASSERT_EQ(lines.size(), 5u) << text;
+  EXPECT_EQ(lines[4], lines[0]) << "r returns to the first view";
+  std::vector<deform::Vec3> eye;  // from the target
+  for (std::size_t k = 0; k < 4; ++k) {
+    const render::Camera c = printed_camera(text, k);
+    EXPECT_NEAR(deform::norm(c.target - printed_camera(text).target), 0.0, 1e-12);
+    eye.push_back(c.eye - c.target);
+  }
+  const auto azimuth = [](const deform::Vec3& v) { return std::atan2(v.y, v.x) * 180.0 / M_PI; };
+  const auto elevation = [](const deform::Vec3& v) { return std::asin(v.z / deform::norm(v)) * 180.0 / M_PI; };
+  EXPECT_NEAR(std::abs(std::remainder(azimuth(eye[1]) - azimuth(eye[0]), 360.0)), 15.0, 1e-6);
+  EXPECT_NEAR(eye[1].z, eye[0].z, 1e-6 * deform::norm(eye[0]));
+  EXPECT_NEAR(deform::norm(eye[1]), deform::norm(eye[0]), 1e-6 * deform::norm(eye[0]));
+  EXPECT_NEAR(elevation(eye[2]) - elevation(eye[1]), 10.0, 1e-6);
+  EXPECT_NEAR(azimuth(eye[2]), azimuth(eye[1]), 1e-6);
+  EXPECT_NEAR(deform::norm(eye[3]) / deform::norm(eye[2]), 0.8, 1e-6);
+  EXPECT_NEAR(deform::norm(deform::normalized(eye[3]) - deform::normalized(eye[2])), 0.0, 1e-6);
+}
+
 TEST_F(LiveView, KeysPauseStepAndSpeedUpARecordedSession) {
   const fs::path scene = press_scene("");
   ASSERT_EQ(run_station(scene, 4.0), 0) << read_text(dir_ / "run.txt");
@@ -142,6 +174,7 @@ TEST_F(LiveView, KeysPauseStepAndSpeedUpARecordedSession) {
   expect_line("view: frame 2/" + frames + " paused speed 1x");
   ASSERT_TRUE(send_keys("plus"));
   expect_line("view: frame 2/" + frames + " paused speed 2x");
+  expect_camera_keys(out);
   ASSERT_TRUE(send_keys("space"));
   expect_line("view: frame 2/" + frames + " playing speed 2x");
   expect_line("view: frame " + frames + "/" + frames + " ended speed 2x");

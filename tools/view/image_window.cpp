@@ -43,6 +43,13 @@ void on_key(GLFWwindow* window, int key, int, int action, int) {
     case GLFW_KEY_ESCAPE: keys.push_back(Key::kQuit); break;
     case GLFW_KEY_KP_ADD: keys.push_back(Key::kFaster); break;
     case GLFW_KEY_KP_SUBTRACT: keys.push_back(Key::kSlower); break;
+    case GLFW_KEY_A: keys.push_back(Key::kOrbitLeft); break;
+    case GLFW_KEY_D: keys.push_back(Key::kOrbitRight); break;
+    case GLFW_KEY_W: keys.push_back(Key::kTiltUp); break;
+    case GLFW_KEY_S: keys.push_back(Key::kTiltDown); break;
+    case GLFW_KEY_Z: keys.push_back(Key::kCloser); break;
+    case GLFW_KEY_X: keys.push_back(Key::kFarther); break;
+    case GLFW_KEY_R: keys.push_back(Key::kResetView); break;
     default: break;
   }
 }

@@ -21,7 +21,20 @@ class WindowError : public std::runtime_error {
 };
 
 /// The keys the viewer acts on.
-enum class Key { kPause, kStep, kFaster, kSlower, kQuit };
+enum class Key {
+  kPause,
+  kStep,
+  kFaster,
+  kSlower,
+  kQuit,
+  kOrbitLeft,
+  kOrbitRight,
+  kTiltUp,
+  kTiltDown,
+  kCloser,
+  kFarther,
+  kResetView
+};
 
 class ImageWindow {
  public:

@@ -31,7 +31,14 @@ bool Playback::key(Key key) {
       if (speed_ <= kMinSpeed) return false;
       speed_ /= 2.0;
       return true;
-    case Key::kQuit: return false;
+    case Key::kQuit:
+    case Key::kOrbitLeft:
+    case Key::kOrbitRight:
+    case Key::kTiltUp:
+    case Key::kTiltDown:
+    case Key::kCloser:
+    case Key::kFarther:
+    case Key::kResetView: return false;  // the window's, not the playback's
   }
   return false;
 }

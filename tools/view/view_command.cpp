@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <variant>
 #include <vector>
 
@@ -51,6 +52,8 @@ constexpr double kSplatSettleS = 0.5;
 // The station's fingertips start above the model: the camera frames this much more than the
 // model's bounding sphere so that an approaching finger is in the picture.
 constexpr double kFramingScale = 1.4;
+// How far the camera keys move in and out: from half the fitted distance to four times it.
+constexpr double kMinZoom = 0.5, kMaxZoom = 4.0;
 constexpr int kViewerNice = 10;
 constexpr render::Rgb kInk{0.12, 0.12, 0.15};
 constexpr render::Rgb kAlarm{0.85, 0.05, 0.05};
@@ -144,13 +147,42 @@ class ViewCommand final : public Command {
     height_ = width_ * 3 / 4;
     window_ = std::make_unique<view::ImageWindow>(width_, height_, "sculpt view " + scene_path_);
     renderer_ = std::make_unique<render::ViewRenderer>(width_, height_, 1);
-    const render::UpAxis up = up_ == "x" ? render::UpAxis::kX : up_ == "z" ? render::UpAxis::kZ : render::UpAxis::kY;
+    up_axis_ = up_ == "x" ? render::UpAxis::kX : up_ == "z" ? render::UpAxis::kZ : render::UpAxis::kY;
     const render::Bounds box = render::bounds_of(model_);
-    const double radius = kFramingScale * render::farthest_distance(model_, box.centre());
-    // One camera for the whole session: a view that refitted itself as the model changes would
-    // hide the change it is there to show.
-    camera_ =
-        render::fit_camera(box.centre(), radius, render::look_direction(up, azimuth_, elevation_), up, width_, height_);
+    centre_ = box.centre();
+    radius_ = kFramingScale * render::farthest_distance(model_, centre_);
+    first_view_ = {azimuth_, elevation_, 1.0};
+    place_camera();
+  }
+
+  // The camera is fitted once to the model as loaded and moves only by the keys: a view that
+  // refitted itself as the model changes would hide the change it is there to show. a and d
+  // orbit about the up axis, w and s tilt (short of the poles), z and x move in and out by a
+  // fifth, r returns to the first view.
+  bool camera_key(view::Key key) {
+    constexpr double kOrbitDeg = 15.0, kTiltDeg = 10.0, kMaxTiltDeg = 85.0, kCloser = 0.8;
+    switch (key) {
+      case view::Key::kOrbitLeft: azimuth_ = std::remainder(azimuth_ - kOrbitDeg, 360.0); break;
+      case view::Key::kOrbitRight: azimuth_ = std::remainder(azimuth_ + kOrbitDeg, 360.0); break;
+      case view::Key::kTiltUp: elevation_ = std::min(elevation_ + kTiltDeg, kMaxTiltDeg); break;
+      case view::Key::kTiltDown: elevation_ = std::max(elevation_ - kTiltDeg, -kMaxTiltDeg); break;
+      case view::Key::kCloser: zoom_ = std::max(zoom_ * kCloser, kMinZoom); break;
+      case view::Key::kFarther: zoom_ = std::min(zoom_ / kCloser, kMaxZoom); break;
+      case view::Key::kResetView: std::tie(azimuth_, elevation_, zoom_) = first_view_; break;
+      default: return false;
+    }
+    place_camera();
+    dirty_ = true;
+    return true;
+  }
+
+  void place_camera() {
+    camera_ = render::fit_camera(centre_, zoom_ * radius_, render::look_direction(up_axis_, azimuth_, elevation_),
+                                 up_axis_, width_, height_);
+    // Closer in, the model still reaches radius_ around its centre: the depth range keeps it all.
+    const double distance = deform::norm(camera_.eye - camera_.target);
+    camera_.near_distance = std::max(distance - 1.5 * radius_, 1e-3 * distance);
+    camera_.far_distance = distance + 1.5 * radius_;
     const render::Camera& c = camera_;
     std::printf("view: camera eye %.9g %.9g %.9g target %.9g %.9g %.9g up %.9g %.9g %.9g fov %.9g size %dx%d\n",
                 c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z,
@@ -247,6 +279,7 @@ class ViewCommand final : public Command {
     for (;;) {
       for (const view::Key key : window_->poll()) {
         if (key == view::Key::kQuit) quit_ = true;
+        if (camera_key(key)) continue;
         // Said before the clock moves on, so the line shows what the key did and nothing else.
         if (playback.key(key)) {
           status_line(playback.status());
@@ -298,6 +331,7 @@ class ViewCommand final : public Command {
   bool quit_requested() {
     for (const view::Key key : window_->poll()) {
       if (key == view::Key::kQuit) quit_ = true;
+      camera_key(key);
     }
     return quit_ || window_->closed();
   }
@@ -363,6 +397,10 @@ class ViewCommand final : public Command {
   std::unique_ptr<render::ViewRenderer> renderer_;
   std::unique_ptr<render::RenderModel> render_model_;
   render::Camera camera_;
+  render::UpAxis up_axis_ = render::UpAxis::kY;
+  render::Vec3 centre_;
+  double radius_ = 1.0, zoom_ = 1.0;
+  std::tuple<double, double, double> first_view_;  // azimuth, elevation, zoom
   bool model_changed_ = true, dirty_ = true, quit_ = false;
   std::optional<Clock::time_point> last_draw_;
   bool splats_stale_ = false;      // the drawn copy moved since its splat sizes were measured
