@@ -13,7 +13,6 @@
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -23,6 +22,7 @@
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/kernel.hpp"
 #include "deform/five_finger_frame.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -93,7 +93,7 @@ TEST(BoundedNormals, TheBoundIsAboveTheGradientsNormEverywhere) {
 
 using frames::five_fingers;
 using frames::Frame;
-using frames::same_bytes;
+using test::same_bytes;
 
 double angle(double ax, double ay, double az, double bx, double by, double bz) {
   const double c =

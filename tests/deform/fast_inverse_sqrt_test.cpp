@@ -24,6 +24,7 @@
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/kernel.hpp"
 #include "deform/five_finger_frame.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -99,7 +100,7 @@ TEST(InverseSqrtEstimate, ValuesOutsideItsRangeGetTheExactResult) {
 
 using frames::five_fingers;
 using frames::Frame;
-using frames::same_bytes;
+using test::same_bytes;
 
 PointModel pass(const Frame& f, Precision precision, bool fast, double skip_bound = 0.0,
                 FieldWorker* worker = nullptr) {
@@ -127,11 +128,6 @@ double largest_normal_angle(const PointModel& a, const PointModel& b) {
   return worst;
 }
 
-bool same_model(const PointModel& a, const PointModel& b) {
-  return same_bytes(a.x, b.x) && same_bytes(a.y, b.y) && same_bytes(a.z, b.z) && same_bytes(a.nx, b.nx) &&
-         same_bytes(a.ny, b.ny) && same_bytes(a.nz, b.nz);
-}
-
 TEST(FastInverseSqrt, APassIsAsCloseToTheDoublePassAsTheFloatPassIs) {
   const Frame f = five_fingers();
   const PointModel exact = pass(f, Precision::kDouble, false);
@@ -145,23 +141,23 @@ TEST(FastInverseSqrt, APassIsAsCloseToTheDoublePassAsTheFloatPassIs) {
   EXPECT_LE(fast_error, 2.0 * float_error);
   EXPECT_LE(fast_turn, 2.0 * float_turn);
   // It did act: some position or normal differs from the plain float pass's.
-  EXPECT_FALSE(same_model(fast, plain));
+  EXPECT_FALSE(same_bytes(fast, plain));
 }
 
 TEST(FastInverseSqrt, TheBoundedPassAndTheSecondCoreGiveTheSameBytes) {
   const Frame f = five_fingers();
   const PointModel fast = pass(f, Precision::kFloat, true);
   FieldWorker worker;
-  EXPECT_TRUE(same_model(pass(f, Precision::kFloat, true, 0.0, &worker), fast));
+  EXPECT_TRUE(same_bytes(pass(f, Precision::kFloat, true, 0.0, &worker), fast));
   // Bounded: positions are the exact (here: fast) pass's, bit for bit, as without the estimate.
   const PointModel bounded = pass(f, Precision::kFloat, true, 1e-2);
   EXPECT_TRUE(same_bytes(bounded.x, fast.x) && same_bytes(bounded.y, fast.y) && same_bytes(bounded.z, fast.z));
-  EXPECT_TRUE(same_model(pass(f, Precision::kFloat, true, 1e-2, &worker), bounded));
+  EXPECT_TRUE(same_bytes(pass(f, Precision::kFloat, true, 1e-2, &worker), bounded));
 }
 
 TEST(FastInverseSqrt, DoublePrecisionIgnoresIt) {
   const Frame f = five_fingers();
-  EXPECT_TRUE(same_model(pass(f, Precision::kDouble, true), pass(f, Precision::kDouble, false)));
+  EXPECT_TRUE(same_bytes(pass(f, Precision::kDouble, true), pass(f, Precision::kDouble, false)));
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "sculpt/deform/displacement_field.hpp"
 #include "sculpt/deform/field_worker.hpp"
 #include "sculpt/deform/generators.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -131,9 +132,7 @@ TEST(FieldLanes, ANonFiniteResultInAnyLaneIsReported) {
   }
 }
 
-bool same_bytes(const PointModel& a, const PointModel& b) {
-  return a.x == b.x && a.y == b.y && a.z == b.z && a.nx == b.nx && a.ny == b.ny && a.nz == b.nz;
-}
+using test::same_bytes;
 
 // A global pass with a journal as large as the model writes its new values into the journal's
 // arrays and trades them for the model's; with a smaller journal, or none, it writes in place.

@@ -8,25 +8,18 @@
 
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <thread>
 #include <vector>
 
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/displacement_field.hpp"
 #include "sculpt/deform/generators.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::deform {
 namespace {
 
-bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
-bool same_model(const PointModel& a, const PointModel& b) {
-  return same_bytes(a.x, b.x) && same_bytes(a.y, b.y) && same_bytes(a.z, b.z) && same_bytes(a.nx, b.nx) &&
-         same_bytes(a.ny, b.ny) && same_bytes(a.nz, b.nz);
-}
+using test::same_bytes;
 
 TEST(FieldWorker, RunsTheSecondPartOnAnotherThreadAndWaitsForIt) {
   FieldWorker worker;
@@ -72,14 +65,14 @@ TEST(FieldWorker, ASplitPassIsBitIdenticalToOneThreadAndItsJournalRestoresEveryB
           apply_displacements(one, Kernel{}, sources, points, global, {precision, true}, true, &journal_one);
       const FieldResult b =
           apply_displacements(two, Kernel{}, sources, points, global, {precision, true}, true, &journal_two, &worker);
-      EXPECT_FALSE(same_model(one, base));  // the pass moved something
-      EXPECT_TRUE(same_model(one, two));
+      EXPECT_FALSE(same_bytes(one, base));  // the pass moved something
+      EXPECT_TRUE(same_bytes(one, two));
       EXPECT_EQ(a.max_displacement, b.max_displacement);
       EXPECT_EQ(a.min_jacobian, b.min_jacobian);
       EXPECT_EQ(a.finite, b.finite);
       EXPECT_EQ(journal_one.size(), journal_two.size());
       journal_two.restore(two);
-      EXPECT_TRUE(same_model(two, base));
+      EXPECT_TRUE(same_bytes(two, base));
     }
   }
   EXPECT_EQ(worker.tasks_run(), 4u);
@@ -111,8 +104,8 @@ TEST(FieldWorker, ADeformerWithTwoThreadsSculptsAStrokeToTheSameBytes) {
         previous = current;
       }
     }
-    EXPECT_FALSE(same_model(models[0], base));
-    EXPECT_TRUE(same_model(models[0], models[1]));
+    EXPECT_FALSE(same_bytes(models[0], base));
+    EXPECT_TRUE(same_bytes(models[0], models[1]));
   }
 }
 

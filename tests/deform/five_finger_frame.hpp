@@ -1,8 +1,7 @@
 #pragma once
 // A shared frame for the displacement loop's tests: five fingers pressing into the top of a
-// 40,000-point sphere, and a byte comparison of float arrays.
+// 40,000-point sphere.
 
-#include <cstring>
 #include <vector>
 
 #include "sculpt/deform/displacement_field.hpp"
@@ -26,10 +25,6 @@ inline Frame five_fingers() {
     f.sources.push_back({{a, 0.1 * s, 1.05}, Vec3{0.01 * s - 0.02, 0.01, -0.04} * unit});
   }
   return f;
-}
-
-inline bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
 }  // namespace sculpt::deform::frames

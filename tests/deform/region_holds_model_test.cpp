@@ -6,21 +6,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sphere_settings.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::deform {
 namespace {
 
 DeformSettings settings(double region_radius) { return frames::sphere_settings(0.08, 0.1, region_radius); }
 
-bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
+using test::same_bytes;
 
 // Three fingers sliding over a sphere centred away from the origin (the box, not the origin,
 // decides), eight frames, each deforming the last one's output.

@@ -4,13 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <vector>
 
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/weight_solver.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -34,12 +34,7 @@ bool all_finite(const PointModel& m) {
   return true;
 }
 
-bool same_bytes(const PointModel& a, const PointModel& b) {
-  auto eq = [](const std::vector<float>& x, const std::vector<float>& y) {
-    return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(float)) == 0;
-  };
-  return eq(a.x, b.x) && eq(a.y, b.y) && eq(a.z, b.z) && eq(a.nx, b.nx) && eq(a.ny, b.ny) && eq(a.nz, b.nz);
-}
+using test::same_bytes;
 
 double min_distance_to_points(const PointModel& m, const Vec3& q) {
   double best = std::numeric_limits<double>::infinity();

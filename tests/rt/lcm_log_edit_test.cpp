@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <map>
 #include <vector>
 
@@ -18,6 +17,7 @@
 #include "sculpt/rt/collision_records.hpp"
 #include "sculpt/rt/station.hpp"
 #include "sculpt/rt/transfer.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::rt {
 namespace {
@@ -94,9 +94,7 @@ deform::PointModel transferred(const std::vector<CollisionRecord>& log) {
   return m;
 }
 
-bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
+using test::same_bytes;
 
 // Index and thumb press at the same time on opposite sides (their frames are solved jointly),
 // then the index presses again alone.

@@ -3,22 +3,17 @@
 // refused without touching the model.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <vector>
 
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/rt/transfer.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::rt {
 namespace {
 
-bool same_bytes(const deform::PointModel& a, const deform::PointModel& b) {
-  auto eq = [](const std::vector<float>& x, const std::vector<float>& y) {
-    return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(float)) == 0;
-  };
-  return eq(a.x, b.x) && eq(a.y, b.y) && eq(a.z, b.z) && eq(a.nx, b.nx) && eq(a.ny, b.ny) && eq(a.nz, b.nz);
-}
+using test::same_bytes;
 
 deform::DeformSettings folding_settings() {
   deform::DeformSettings s;

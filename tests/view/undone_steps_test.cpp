@@ -5,7 +5,6 @@
 // the events it never got for a loss.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <set>
 #include <vector>
 
@@ -16,6 +15,7 @@
 #include "sculpt/rt/station.hpp"
 #include "sculpt/rt/station_recorder.hpp"
 #include "sculpt/rt/transfer.hpp"
+#include "support/same_bytes.hpp"
 
 namespace sculpt::test {
 namespace {
@@ -54,13 +54,6 @@ class ChannelRecorder final : public rt::StationRecorder {
  private:
   const rt::Station* station_;
 };
-
-bool same_bytes(const deform::PointModel& a, const deform::PointModel& b) {
-  const auto eq = [](const std::vector<float>& x, const std::vector<float>& y) {
-    return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(float)) == 0;
-  };
-  return eq(a.x, b.x) && eq(a.y, b.y) && eq(a.z, b.z);
-}
 
 TEST(UndoneSteps, AViewerFollowingTheLiveChannelOfSplitAndUndoneStepsStaysExact) {
   const deform::PointModel base = deform::make_sphere();
@@ -129,7 +122,7 @@ TEST(UndoneSteps, AViewerFollowingTheLiveChannelOfSplitAndUndoneStepsStaysExact)
   EXPECT_FALSE(follower.diverged()) << follower.diverged_frames() << " frames";
   EXPECT_EQ(follower.gaps(), 0u);
   EXPECT_EQ(follower.frames_applied(), ids.size());
-  EXPECT_TRUE(same_bytes(copy, sphere)) << "the viewer's copy differs from the station's model";
+  EXPECT_TRUE(same_position_bytes(copy, sphere)) << "the viewer's copy differs from the station's model";
 }
 
 }  // namespace
