@@ -305,7 +305,9 @@ class RunCommand final : public Command {
   // What reached the glove's actuators: a serial line slower than the loop delivers fewer
   // commands than the loop sent (the newest per hand; the rest superseded), and says so here.
   // Per hand that touched, the rate while it did: commands the sink took per second in contact,
-  // which the loop's rate bounds (a command every tick in contact).
+  // which the loop's rate bounds (a command every tick in contact), and of them those that
+  // reached the link (a slow line carries the newest of several; idle and release frames, which
+  // delivered_rate_hz counts, are not among them).
   static nlohmann::json haptic_json(const hal::HapticSink* sink, const rt::StationTotals& t,
                                     const rt::FixedRateLoop& loop) {
     if (!sink) return nullptr;
@@ -315,12 +317,15 @@ class RunCommand final : public Command {
     for (std::size_t hand = 0; hand < t.contact_ticks.size(); ++hand) {
       if (t.contact_ticks[hand] == 0) continue;
       const double contact_s = rate > 0.0 ? static_cast<double>(t.contact_ticks[hand]) / rate : 0.0;
+      const std::uint64_t delivered = sink->delivered_in_contact(hand);
       in_contact.push_back(
           {{"hand", hand},
            {"ticks", t.contact_ticks[hand]},
            {"commands", t.contact_commands[hand]},
+           {"delivered", delivered},
            {"seconds", contact_s},
-           {"rate_hz", contact_s > 0.0 ? static_cast<double>(t.contact_commands[hand]) / contact_s : 0.0}});
+           {"rate_hz", contact_s > 0.0 ? static_cast<double>(t.contact_commands[hand]) / contact_s : 0.0},
+           {"delivered_rate_hz", contact_s > 0.0 ? static_cast<double>(delivered) / contact_s : 0.0}});
     }
     return {{"sink", sink->name()},
             {"delivered", sink->delivered()},

@@ -109,7 +109,7 @@ void CanHapticSink::run() noexcept {
       if (!have[h]) continue;
       have[h] = false;
       if (write_command(newest[h]))
-        sent_.fetch_add(1, std::memory_order_relaxed);
+        sent_.count(newest[h]);
       else
         dropped_.fetch_add(1, std::memory_order_relaxed);
     }

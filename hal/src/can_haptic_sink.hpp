@@ -9,6 +9,7 @@
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/can_frame_codec.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
+#include "delivery_counts.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 
 namespace sculpt::hal {
@@ -36,8 +37,9 @@ class CanHapticSink final : public HapticSink {
   std::uint64_t superseded() const noexcept override { return superseded_.load(std::memory_order_relaxed); }
   const char* name() const noexcept override { return "socketcan"; }
   /// Commands written to the bus in full.
-  std::uint64_t sent() const noexcept { return sent_.load(std::memory_order_relaxed); }
+  std::uint64_t sent() const noexcept { return sent_.total(); }
   std::uint64_t delivered() const noexcept override { return sent(); }
+  std::uint64_t delivered_in_contact(std::size_t hand) const noexcept override { return sent_.in_contact(hand); }
 
  private:
   void run() noexcept;
@@ -47,7 +49,7 @@ class CanHapticSink final : public HapticSink {
   base::SpscQueue<HapticCommand> queue_;
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<std::uint64_t> superseded_{0};
-  std::atomic<std::uint64_t> sent_{0};
+  DeliveryCounts sent_;
   std::atomic<bool> stop_requested_{false};
   int socket_ = -1;
   bool interface_gone_ = false;  // I/O thread only

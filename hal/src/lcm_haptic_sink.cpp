@@ -68,7 +68,7 @@ std::size_t LcmHapticSink::drain() noexcept {
     const bool encoded =
         size > 0 && static_cast<std::size_t>(size) <= buffer.size() && message.encode(buffer.data(), 0, size) == size;
     if (encoded && lcm_->publish(config_.haptic_channel, buffer.data(), static_cast<unsigned>(size)) == 0) {
-      published_.fetch_add(1, std::memory_order_relaxed);
+      published_.count(command);
     } else {
       publish_errors_.fetch_add(1, std::memory_order_relaxed);
     }

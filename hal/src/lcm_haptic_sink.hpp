@@ -11,6 +11,7 @@
 
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
+#include "delivery_counts.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 
 namespace lcm {
@@ -40,8 +41,9 @@ class LcmHapticSink final : public HapticSink {
   bool send(const HapticCommand& command) noexcept override;
   /// Commands refused because the queue was full.
   std::uint64_t dropped() const noexcept override { return dropped_.load(std::memory_order_relaxed); }
-  std::uint64_t published() const noexcept { return published_.load(std::memory_order_relaxed); }
+  std::uint64_t published() const noexcept { return published_.total(); }
   std::uint64_t delivered() const noexcept override { return published(); }
+  std::uint64_t delivered_in_contact(std::size_t hand) const noexcept override { return published_.in_contact(hand); }
   /// Commands that failed to encode or that LCM refused to publish.
   std::uint64_t publish_errors() const noexcept { return publish_errors_.load(std::memory_order_relaxed); }
   const char* name() const noexcept override { return "lcm"; }
@@ -55,7 +57,8 @@ class LcmHapticSink final : public HapticSink {
   lcm::LCM* lcm_ = nullptr;  // owned_ or the shared instance
   std::unique_ptr<lcm::LCM> owned_;
   base::SpscQueue<HapticCommand> queue_;
-  std::atomic<std::uint64_t> dropped_{0}, published_{0}, publish_errors_{0};
+  std::atomic<std::uint64_t> dropped_{0}, publish_errors_{0};
+  DeliveryCounts published_;
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;
 };

@@ -83,7 +83,7 @@ bool SerialHapticSink::send(const HapticCommand& command) noexcept {
 
 std::uint64_t SerialHapticSink::dropped() const noexcept { return dropped_.load(std::memory_order_relaxed); }
 
-std::uint64_t SerialHapticSink::frames_written() const noexcept { return written_.load(std::memory_order_relaxed); }
+std::uint64_t SerialHapticSink::frames_written() const noexcept { return written_.total(); }
 
 bool SerialHapticSink::connected() const noexcept { return connected_.load(std::memory_order_acquire); }
 
@@ -136,7 +136,7 @@ void SerialHapticSink::deliver(const HapticCommand& command) noexcept {
   const std::size_t begin = cut_frame_on_line_ ? 0 : 1;  // frame_[0] is a zero delimiter
   std::size_t sent = 0;
   if (write_frame(std::span<const std::uint8_t>(frame_.data() + begin, 1 + n - begin), sent)) {
-    written_.fetch_add(1, std::memory_order_relaxed);
+    written_.count(command);
     cut_frame_on_line_ = false;
   } else {
     dropped_.fetch_add(1, std::memory_order_relaxed);

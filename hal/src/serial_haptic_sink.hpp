@@ -10,6 +10,7 @@
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/frame_codec.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
+#include "delivery_counts.hpp"
 #include "sculpt/hal/serial_port.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 
@@ -61,6 +62,7 @@ class SerialHapticSink final : public HapticSink {
   /// Commands not delivered: queue full, device absent, or write timed out.
   std::uint64_t dropped() const noexcept override;
   std::uint64_t delivered() const noexcept override { return frames_written(); }
+  std::uint64_t delivered_in_contact(std::size_t hand) const noexcept override { return written_.in_contact(hand); }
   std::uint64_t superseded() const noexcept override { return superseded_.load(std::memory_order_relaxed); }
   const char* name() const noexcept override { return "serial"; }
 
@@ -91,7 +93,7 @@ class SerialHapticSink final : public HapticSink {
   std::array<bool, kHands> holding_{};
   std::uint32_t sequence_ = 0;
   std::atomic<std::uint64_t> dropped_{0};
-  std::atomic<std::uint64_t> written_{0};
+  DeliveryCounts written_;
   std::atomic<std::uint64_t> superseded_{0};
   std::atomic<bool> connected_{false};
   std::atomic<bool> stop_requested_{false};

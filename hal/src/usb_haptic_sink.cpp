@@ -153,7 +153,7 @@ void UsbHapticSink::write_due(std::int64_t now_ns) noexcept {
       // silence a release waits out, are one reading.
       last_command_ns_[h] = base::monotonic_now_ns();
       if (write(c, last_command_ns_[h])) {
-        written_.fetch_add(1, std::memory_order_relaxed);
+        written_.count(c);
         pressing_[h] = carries_force(c);
       } else {
         dropped_.fetch_add(1, std::memory_order_relaxed);

@@ -11,6 +11,7 @@
 #include "sculpt/hal/backend_config.hpp"
 #include "sculpt/hal/frame_codec.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
+#include "delivery_counts.hpp"
 #include "usb_device.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 
@@ -64,7 +65,8 @@ class UsbHapticSink final : public HapticSink {
   /// Commands not delivered: queue full, hand out of range, device absent, write failed.
   std::uint64_t dropped() const noexcept override { return dropped_.load(std::memory_order_relaxed); }
   /// Commands written to the endpoint in full (releases of the sink's own not included).
-  std::uint64_t delivered() const noexcept override { return written_.load(std::memory_order_relaxed); }
+  std::uint64_t delivered() const noexcept override { return written_.total(); }
+  std::uint64_t delivered_in_contact(std::size_t hand) const noexcept override { return written_.in_contact(hand); }
   std::uint64_t superseded() const noexcept override { return superseded_.load(std::memory_order_relaxed); }
   const char* name() const noexcept override { return "usb"; }
 
@@ -108,7 +110,8 @@ class UsbHapticSink final : public HapticSink {
   std::array<bool, kHands> pressing_{};
   std::array<std::uint32_t, kHands> last_tick_{};
   std::array<std::int64_t, kHands> last_command_ns_{};
-  std::atomic<std::uint64_t> dropped_{0}, written_{0}, superseded_{0}, clamped_{0}, releases_{0};
+  std::atomic<std::uint64_t> dropped_{0}, superseded_{0}, clamped_{0}, releases_{0};
+  DeliveryCounts written_;
   std::atomic<std::uint64_t> disconnects_{0}, reconnects_{0};
   std::atomic<bool> connected_{false};
   std::atomic<bool> stop_requested_{false};

@@ -284,6 +284,13 @@ TEST_F(UsbGadget, SinkFramesArriveDecodedWithTheValuesSent) {
   })) << got.size()
       << " frames arrived of " << sink.delivered() << " written";
   EXPECT_EQ(got.size(), sink.delivered()) << "a frame arrived twice, or one not written";
+  // What each hand felt: the frames that arrived with a finger in contact (i % 32 == 0 rests).
+  std::array<std::uint64_t, kHands> in_contact{};
+  for (const Received& r : got) in_contact[r.command.hand] += r.command.active_mask != 0;
+  for (std::size_t hand = 0; hand < kHands; ++hand) {
+    EXPECT_EQ(sink.delivered_in_contact(hand), in_contact[hand]) << "hand " << hand;
+    EXPECT_GT(in_contact[hand], 0u) << "hand " << hand;
+  }
   EXPECT_EQ(releases.size(), sink.releases());
   EXPECT_GE(sink.delivered(), kCount / 2) << "the sink wrote fewer than half of the commands, given 3 ms apart";
   EXPECT_EQ(sink.dropped(), 0u);

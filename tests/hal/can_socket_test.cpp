@@ -315,6 +315,22 @@ TEST_P(CanSocketVcan, SinkSendsCommandsAnotherSocketDecodes) {
   ASSERT_TRUE(complete);
   EXPECT_EQ(out.tick, 77u);
   EXPECT_EQ(out.force, c.force);
+  // The sink counts the command once its last frame is written: a contact, of hand 0.
+  ASSERT_TRUE(eventually([&] { return sink.sent() == 1; }));
+  EXPECT_EQ(sink.delivered_in_contact(0), 1u);
+  EXPECT_EQ(sink.delivered_in_contact(1), 0u);
+  // A rest (no finger in contact) is delivered, not counted as felt.
+  c.tick = 78;
+  c.active_mask = 0;
+  c.force = {};
+  ASSERT_TRUE(sink.send(c));
+  complete = false;
+  while (!complete && read_frame(f)) complete = decoder.feed(f, out) == CanFeedResult::kComplete;
+  ASSERT_TRUE(complete);
+  EXPECT_EQ(out.tick, 78u);
+  EXPECT_EQ(out.active_mask, 0u);
+  ASSERT_TRUE(eventually([&] { return sink.sent() == 2; }));
+  EXPECT_EQ(sink.delivered_in_contact(0), 1u);
   sink.stop();
 }
 

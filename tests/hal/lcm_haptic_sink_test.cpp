@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <stdexcept>
@@ -75,6 +76,36 @@ TEST(LcmHapticSink, PublishesDecodableCommandsOnTheHapticChannel) {
   EXPECT_EQ(sink.published(), 3u);
   EXPECT_EQ(sink.dropped(), 0u);
   EXPECT_EQ(sink.publish_errors(), 0u);
+}
+
+// What a hand felt: of the commands published, those of each hand with a finger in contact, as
+// the receiver decodes them (rest commands, mask 0, are published but carry no contact).
+TEST(LcmHapticSink, CountsEachHandsCommandsInContactAsTheReceiverDecodesThem) {
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  Capture capture;
+  lcm.subscribeFunction("SCULPT_HAPTIC", &Capture::on_message, &capture);
+  LcmHapticSink sink(lcm, LcmConfig{}, 64);
+  sink.start();
+  constexpr std::uint32_t kCommands = 40;  // ticks 0 and 32 (hand 0) rest: mask tick & 0x1F
+  for (std::uint32_t t = 0; t < kCommands; ++t) ASSERT_TRUE(sink.send(make_command(t)));
+  capture.wait_for(lcm, kCommands);
+  sink.stop();
+  ASSERT_EQ(capture.messages.size(), kCommands);
+  std::array<std::uint64_t, kHands> in_contact{};
+  for (const auto& bytes : capture.messages) {
+    sculpt_lcm::haptic_command_t m{};
+    ASSERT_EQ(m.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+    HapticCommand got;
+    ASSERT_TRUE(hal::from_lcm(m, got));
+    if (got.active_mask != 0) ++in_contact[got.hand];
+  }
+  EXPECT_EQ(in_contact[0], 18u);
+  EXPECT_EQ(in_contact[1], 20u);
+  for (std::size_t hand = 0; hand < kHands; ++hand)
+    EXPECT_EQ(sink.delivered_in_contact(hand), in_contact[hand]) << hand;
+  EXPECT_EQ(sink.delivered_in_contact(kHands), 0u);
+  EXPECT_EQ(sink.delivered(), kCommands);
 }
 
 TEST(LcmHapticSink, FullQueueDropsAreCountedAndStopFlushesTheRest) {

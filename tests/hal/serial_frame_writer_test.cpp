@@ -314,6 +314,7 @@ TEST(SerialHapticSink, ASlowLineCarriesTheNewestCommandAndNeverABacklog) {
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   std::vector<std::uint32_t> ticks;
+  std::uint64_t in_contact = 0;  // frames on the line with a finger in contact (all hand 1)
   FrameDecoder decoder;
   std::array<std::uint8_t, 4096> buffer{};
   const auto read_line = [&] {
@@ -324,7 +325,9 @@ TEST(SerialHapticSink, ASlowLineCarriesTheNewestCommandAndNeverABacklog) {
       if (n <= 0) return;
       decoder.feed(std::span<const std::uint8_t>(buffer.data(), static_cast<std::size_t>(n)),
                    [&](const DecodedFrame& f) {
-                     if (f.type == DecodedFrame::Type::kHaptic) ticks.push_back(f.haptic.tick);
+                     if (f.type != DecodedFrame::Type::kHaptic) return;
+                     ticks.push_back(f.haptic.tick);
+                     in_contact += f.haptic.active_mask != 0;
                    });
     }
   };
@@ -350,6 +353,11 @@ TEST(SerialHapticSink, ASlowLineCarriesTheNewestCommandAndNeverABacklog) {
   EXPECT_LT(ticks.size(), static_cast<std::size_t>(kCommands));
   EXPECT_EQ(sink.frames_written() + sink.dropped() + sink.superseded(), accepted + 1u);
   EXPECT_EQ(ticks.size(), sink.frames_written());
+  // What the hand felt: the frames with a contact, counted by the sink as the glove decodes them
+  // (a command every 32nd tick rests; those, and the superseded, are not among them).
+  EXPECT_EQ(sink.delivered_in_contact(1), in_contact);
+  EXPECT_GT(in_contact, 0u);
+  EXPECT_EQ(sink.delivered_in_contact(0), 0u);
   std::printf("[ serial ] %u commands: %zu frames on the line, %llu superseded, %llu dropped\n", kCommands + 1,
               ticks.size(), static_cast<unsigned long long>(sink.superseded()),
               static_cast<unsigned long long>(sink.dropped()));

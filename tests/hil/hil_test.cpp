@@ -464,6 +464,9 @@ Contact expect_felt_as_a_glove(const HapticCapture& c, const char* line) {
     EXPECT_GE(summary_ticks, contact.ticks) << "the line saw contact over more ticks than the station counted";
     EXPECT_LE(in_contact, summary_ticks);
     EXPECT_GT(touched[0]["rate_hz"].get<double>(), 0.0);
+    // And what reached the line while in contact is what the glove decoded with a contact.
+    EXPECT_EQ(touched[0]["delivered"].get<std::uint64_t>(), in_contact);
+    EXPECT_GT(touched[0]["delivered_rate_hz"].get<double>(), 0.0);
   }
   std::printf(
       "[ hil ] serial haptic, %s: %zu frames (%.1f bytes each), %zu in contact over %u ticks (%.0f Hz by "

@@ -123,15 +123,20 @@ class NewestCommand final : public hal::HapticSink {
   bool send(const hal::HapticCommand& c) noexcept override {
     *newest_ = c;
     ++sent_;
+    if (c.active_mask != 0 && c.hand < hal::kHands) ++sent_in_contact_[c.hand];
     return true;
   }
   std::uint64_t dropped() const noexcept override { return 0; }
   std::uint64_t delivered() const noexcept override { return sent_; }
+  std::uint64_t delivered_in_contact(std::size_t hand) const noexcept override {
+    return hand < hal::kHands ? sent_in_contact_[hand] : 0;
+  }
   const char* name() const noexcept override { return "newest"; }
 
  private:
   hal::HapticCommand* newest_;
   std::uint64_t sent_ = 0;
+  std::array<std::uint64_t, hal::kHands> sent_in_contact_{};
 };
 
 struct Registration {

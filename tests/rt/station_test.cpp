@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
 #include <deque>
@@ -30,6 +32,11 @@ class RecordingSink final : public hal::HapticSink {
   }
   std::uint64_t dropped() const noexcept override { return 0; }
   std::uint64_t delivered() const noexcept override { return log_->size(); }
+  std::uint64_t delivered_in_contact(std::size_t hand) const noexcept override {
+    return static_cast<std::uint64_t>(std::count_if(log_->begin(), log_->end(), [hand](const hal::HapticCommand& c) {
+      return c.hand == hand && c.active_mask != 0;
+    }));
+  }
   const char* name() const noexcept override { return "recording"; }
 
  private:
@@ -343,17 +350,24 @@ class SometimesFullSink final : public hal::HapticSink {
   void stop() override {}
   bool send(const hal::HapticCommand& c) noexcept override {
     const bool taken = ++offered_ % 3 != 0;
-    if (taken && c.active_mask != 0) ++taken_in_contact;
+    if (taken && c.active_mask != 0) {
+      ++taken_in_contact;
+      if (c.hand < hal::kHands) ++taken_in_contact_by_hand_[c.hand];
+    }
     return taken;
   }
   std::uint64_t dropped() const noexcept override { return offered_ / 3; }
   std::uint64_t delivered() const noexcept override { return offered_ - offered_ / 3; }
+  std::uint64_t delivered_in_contact(std::size_t hand) const noexcept override {
+    return hand < hal::kHands ? taken_in_contact_by_hand_[hand] : 0;
+  }
   const char* name() const noexcept override { return "sometimes full"; }
 
   std::uint64_t taken_in_contact = 0;
 
  private:
   std::uint64_t offered_ = 0;
+  std::array<std::uint64_t, hal::kHands> taken_in_contact_by_hand_{};
 };
 
 TEST(Station, CountsEachHandsTicksInContactAndTheCommandsItsSinkTookInThem) {

@@ -2,6 +2,7 @@
 // Where the contact forces go for haptic feedback (lcm, serial, can, usb).
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "sculpt/hal/glove_sample.hpp"
@@ -29,6 +30,9 @@ class HapticSink {
   virtual std::uint64_t dropped() const noexcept = 0;
   /// Commands that reached the link (published, written, sent).
   virtual std::uint64_t delivered() const noexcept = 0;
+  /// Of those, the commands of `hand` that carried a contact (a non-zero active mask): what
+  /// that hand could feel, without the idle and release frames. 0 for a hand that does not exist.
+  virtual std::uint64_t delivered_in_contact(std::size_t hand) const noexcept = 0;
   /// Commands deliberately not sent because a newer one for the same hand replaced them
   /// before the link had room: a slow link carries the newest force, never a backlog.
   virtual std::uint64_t superseded() const noexcept { return 0; }
