@@ -55,6 +55,7 @@ class LiveView : public ViewSession {
     return viewer;
   }
   static void expect_camera_keys(const fs::path& out);
+  static void expect_camera_mouse(const fs::path& out);
 };
 
 TEST_F(LiveView, TheCopyIsTheStationsModelAndTheScreenshotShowsTheDent) {
@@ -153,6 +154,42 @@ void LiveView::expect_camera_keys(const fs::path& out) {
   EXPECT_NEAR(deform::norm(deform::normalized(eye[3]) - deform::normalized(eye[2])), 0.0, 1e-6);
 }
 
+// After the keys (the view back at the first): a left-button drag 80 px right and 30 px up,
+// then a wheel notch away from the user. The drag turns the model with the hand, 180 degrees
+// a window's width and 90 a height: the camera orbits 22.5 degrees the way a moves it and
+// tilts 5.625 down; the notch brings it a fifth closer along the same line.
+void LiveView::expect_camera_mouse(const fs::path& out) {
+  const std::size_t before = lines_starting(read_text(out), "view: camera ").size();
+  ASSERT_GE(before, 1u);
+  const render::Camera first = printed_camera(read_text(out), before - 1);
+  ASSERT_EQ(first.width, 640);
+  ASSERT_EQ(first.height, 480);
+  ASSERT_TRUE(send_mouse("mousemove --window %1 200 150 mousedown 1 mousemove --window %1 280 120 mouseup 1 click 4"));
+  const deform::Vec3 eye0 = first.eye - first.target;
+  const auto distance_ratio = [&](const std::string& text) {
+    const std::vector<std::string> lines = lines_starting(text, "view: camera ");
+    const render::Camera c = printed_camera(text, lines.size() - 1);
+    return deform::norm(c.eye - c.target) / deform::norm(eye0);
+  };
+  const auto end = std::chrono::steady_clock::now() + 20s;
+  while (std::abs(distance_ratio(read_text(out)) - 0.8) > 1e-6 && std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(50ms);
+  }
+  const std::string text = read_text(out);
+  const std::vector<std::string> lines = lines_starting(text, "view: camera ");
+  // One camera or more: a poll that gathers both moves places the camera once.
+  ASSERT_GT(lines.size(), before) << "no camera after the drag and the notch\n" << text;
+  const render::Camera last = printed_camera(text, lines.size() - 1);
+  const deform::Vec3 eye = last.eye - last.target;
+  EXPECT_NEAR(deform::norm(last.target - first.target), 0.0, 1e-12);
+  const auto azimuth = [](const deform::Vec3& v) { return std::atan2(v.y, v.x) * 180.0 / M_PI; };
+  const auto elevation = [](const deform::Vec3& v) { return std::asin(v.z / deform::norm(v)) * 180.0 / M_PI; };
+  EXPECT_NEAR(std::remainder(azimuth(eye) - azimuth(eye0), 360.0), -22.5, 1e-6);
+  EXPECT_NEAR(elevation(eye) - elevation(eye0), -5.625, 1e-6);
+  EXPECT_NEAR(deform::norm(eye) / deform::norm(eye0), 0.8, 1e-6);
+  std::printf("[ view ] drag and wheel: %zu camera lines\n", lines.size() - before);
+}
+
 TEST_F(LiveView, KeysPauseStepAndSpeedUpARecordedSession) {
   const fs::path scene = press_scene("");
   ASSERT_EQ(run_station(scene, 4.0), 0) << read_text(dir_ / "run.txt");
@@ -175,6 +212,7 @@ TEST_F(LiveView, KeysPauseStepAndSpeedUpARecordedSession) {
   ASSERT_TRUE(send_keys("plus"));
   expect_line("view: frame 2/" + frames + " paused speed 2x");
   expect_camera_keys(out);
+  expect_camera_mouse(out);
   ASSERT_TRUE(send_keys("space"));
   expect_line("view: frame 2/" + frames + " playing speed 2x");
   expect_line("view: frame " + frames + "/" + frames + " ended speed 2x");

@@ -180,6 +180,15 @@ class ViewSession : public SessionFolder {
     return std::system(command.c_str()) == 0;
   }
 
+  /// Runs xdotool's mouse `actions` on the viewer's window, focused first; %1 names the window
+  /// (e.g. "mousemove --window %1 200 150 mousedown 1 ... mouseup 1 click 4").
+  static bool send_mouse(const std::string& actions) {
+    const std::string command =
+        "timeout 20 xdotool search --sync --onlyvisible --name 'sculpt view' windowfocus --sync " + actions +
+        " > /dev/null 2>&1";
+    return std::system(command.c_str()) == 0;
+  }
+
   std::unique_ptr<VirtualDisplay> display_;
 };
 

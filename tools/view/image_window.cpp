@@ -32,9 +32,23 @@ std::uint8_t unpack(const Channel& c, unsigned long pixel) {
   return static_cast<std::uint8_t>(c.bits >= 8 ? v >> (c.bits - 8) : v << (8 - c.bits));
 }
 
+}  // namespace
+
+struct WindowInput {
+  std::vector<Key> keys;
+  PointerMotion pointer;
+  bool dragging = false;
+  bool cursor_known = false;
+  double x = 0.0, y = 0.0;  // the cursor as its last motion event put it
+};
+
+namespace {
+
+WindowInput& input_of(GLFWwindow* window) { return *static_cast<WindowInput*>(glfwGetWindowUserPointer(window)); }
+
 void on_key(GLFWwindow* window, int key, int, int action, int) {
   if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
-  auto& keys = *static_cast<std::vector<Key>*>(glfwGetWindowUserPointer(window));
+  std::vector<Key>& keys = input_of(window).keys;
   switch (key) {
     case GLFW_KEY_SPACE: keys.push_back(Key::kPause); break;
     case GLFW_KEY_N:
@@ -56,10 +70,38 @@ void on_key(GLFWwindow* window, int key, int, int action, int) {
 
 // '+' and '-' by the character they type, whatever the keyboard layout puts them on.
 void on_char(GLFWwindow* window, unsigned int codepoint) {
-  auto& keys = *static_cast<std::vector<Key>*>(glfwGetWindowUserPointer(window));
+  std::vector<Key>& keys = input_of(window).keys;
   if (codepoint == '+') keys.push_back(Key::kFaster);
   if (codepoint == '-') keys.push_back(Key::kSlower);
 }
+
+// A drag starts where the left button goes down and adds each move of the cursor while it is
+// held (X grabs the pointer meanwhile, so a drag may leave the window and still count). Where
+// it went down is where the motion events had put the cursor: a poll handles the events that
+// queued since the last, and asking the server instead would give where the cursor is now,
+// after the moves still queued behind the press.
+void on_button(GLFWwindow* window, int button, int action, int) {
+  if (button != GLFW_MOUSE_BUTTON_LEFT) return;
+  WindowInput& in = input_of(window);
+  in.dragging = action == GLFW_PRESS;
+  if (in.dragging && !in.cursor_known) {
+    glfwGetCursorPos(window, &in.x, &in.y);  // no motion seen yet: the best there is
+    in.cursor_known = true;
+  }
+}
+
+void on_cursor(GLFWwindow* window, double x, double y) {
+  WindowInput& in = input_of(window);
+  if (in.dragging) {
+    in.pointer.drag_x += x - in.x;
+    in.pointer.drag_y += y - in.y;
+  }
+  in.x = x;
+  in.y = y;
+  in.cursor_known = true;
+}
+
+void on_scroll(GLFWwindow* window, double, double notches) { input_of(window).pointer.scroll += notches; }
 
 }  // namespace
 
@@ -82,9 +124,13 @@ ImageWindow::ImageWindow(int width, int height, const std::string& title) : widt
     glfwTerminate();
     throw WindowError("cannot open a window: GLFW could not create it");
   }
-  glfwSetWindowUserPointer(window_, &keys_);
+  input_ = std::make_unique<WindowInput>();
+  glfwSetWindowUserPointer(window_, input_.get());
   glfwSetKeyCallback(window_, on_key);
   glfwSetCharCallback(window_, on_char);
+  glfwSetMouseButtonCallback(window_, on_button);
+  glfwSetCursorPosCallback(window_, on_cursor);
+  glfwSetScrollCallback(window_, on_scroll);
   native_ = new Native;
   native_->display = glfwGetX11Display();
   native_->window = glfwGetX11Window(window_);
@@ -152,8 +198,14 @@ render::Image ImageWindow::capture() const {
 std::vector<Key> ImageWindow::poll() {
   glfwPollEvents();
   std::vector<Key> keys;
-  keys.swap(keys_);
+  keys.swap(input_->keys);
   return keys;
+}
+
+PointerMotion ImageWindow::take_pointer() {
+  const PointerMotion motion = input_->pointer;
+  input_->pointer = {};
+  return motion;
 }
 
 bool ImageWindow::closed() const { return glfwWindowShouldClose(window_) != 0; }

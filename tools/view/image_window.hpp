@@ -4,6 +4,7 @@
 // window is made by GLFW with no client API (no OpenGL context at all) and each picture is
 // copied into it with Xlib's XPutImage.
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -36,6 +37,16 @@ enum class Key {
   kResetView
 };
 
+/// What the mouse did since the last poll: a left-button drag in pixels (right and down
+/// positive), and wheel notches (away from the user positive).
+struct PointerMotion {
+  double drag_x = 0.0;
+  double drag_y = 0.0;
+  double scroll = 0.0;
+};
+
+struct WindowInput;  // image_window.cpp's
+
 class ImageWindow {
  public:
   /// Opens a `width` x `height` window titled `title`. @throw WindowError
@@ -50,6 +61,8 @@ class ImageWindow {
   render::Image capture() const;
   /// Handles window events; the keys pressed since the last call, in order.
   std::vector<Key> poll();
+  /// The mouse's motion gathered by the polls since the last call.
+  PointerMotion take_pointer();
   /// The window was closed by its window manager.
   bool closed() const;
 
@@ -57,7 +70,7 @@ class ImageWindow {
   struct Native;
   GLFWwindow* window_ = nullptr;
   Native* native_ = nullptr;
-  std::vector<Key> keys_;
+  std::unique_ptr<WindowInput> input_;  // what GLFW's callbacks gather between polls
   int width_ = 0;
   int height_ = 0;
 };

@@ -18,7 +18,6 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
-#include <tuple>
 #include <variant>
 #include <vector>
 
@@ -28,6 +27,7 @@
 #include "image_window.hpp"
 #include "lcm_receiver.hpp"
 #include "number_check.hpp"
+#include "orbit_view.hpp"
 #include "playback.hpp"
 #include "sculpt/base/clock.hpp"
 #include "sculpt/deform/model_io.hpp"
@@ -52,8 +52,6 @@ constexpr double kSplatSettleS = 0.5;
 // The station's fingertips start above the model: the camera frames this much more than the
 // model's bounding sphere so that an approaching finger is in the picture.
 constexpr double kFramingScale = 1.4;
-// How far the camera keys move in and out: from half the fitted distance to four times it.
-constexpr double kMinZoom = 0.5, kMaxZoom = 4.0;
 constexpr int kViewerNice = 10;
 constexpr render::Rgb kInk{0.12, 0.12, 0.15};
 constexpr render::Rgb kAlarm{0.85, 0.05, 0.05};
@@ -151,34 +149,33 @@ class ViewCommand final : public Command {
     const render::Bounds box = render::bounds_of(model_);
     centre_ = box.centre();
     radius_ = kFramingScale * render::farthest_distance(model_, centre_);
-    first_view_ = {azimuth_, elevation_, 1.0};
+    orbit_.emplace(view::ViewAngles{azimuth_, elevation_, 1.0});
     place_camera();
   }
 
-  // The camera is fitted once to the model as loaded and moves only by the keys: a view that
-  // refitted itself as the model changes would hide the change it is there to show. a and d
-  // orbit about the up axis, w and s tilt (short of the poles), z and x move in and out by a
-  // fifth, r returns to the first view.
-  bool camera_key(view::Key key) {
-    constexpr double kOrbitDeg = 15.0, kTiltDeg = 10.0, kMaxTiltDeg = 85.0, kCloser = 0.8;
-    switch (key) {
-      case view::Key::kOrbitLeft: azimuth_ = std::remainder(azimuth_ - kOrbitDeg, 360.0); break;
-      case view::Key::kOrbitRight: azimuth_ = std::remainder(azimuth_ + kOrbitDeg, 360.0); break;
-      case view::Key::kTiltUp: elevation_ = std::min(elevation_ + kTiltDeg, kMaxTiltDeg); break;
-      case view::Key::kTiltDown: elevation_ = std::max(elevation_ - kTiltDeg, -kMaxTiltDeg); break;
-      case view::Key::kCloser: zoom_ = std::max(zoom_ * kCloser, kMinZoom); break;
-      case view::Key::kFarther: zoom_ = std::min(zoom_ / kCloser, kMaxZoom); break;
-      case view::Key::kResetView: std::tie(azimuth_, elevation_, zoom_) = first_view_; break;
-      default: return false;
-    }
+  // The camera moves by the keys (OrbitView::key) and by the mouse: a left-button drag turns
+  // the model, the wheel moves in and out. Each move places the camera and prints it.
+  bool camera_key(view::Key key) { return moved(orbit_->key(key)); }
+
+  void camera_pointer() {
+    const view::PointerMotion m = window_->take_pointer();
+    const bool dragged = (m.drag_x != 0.0 || m.drag_y != 0.0) && orbit_->drag(m.drag_x, m.drag_y, width_, height_);
+    const bool scrolled = m.scroll != 0.0 && orbit_->scroll(m.scroll);
+    moved(dragged || scrolled);
+  }
+
+  bool moved(bool changed) {
+    if (!changed) return false;
     place_camera();
     dirty_ = true;
     return true;
   }
 
   void place_camera() {
-    camera_ = render::fit_camera(centre_, zoom_ * radius_, render::look_direction(up_axis_, azimuth_, elevation_),
-                                 up_axis_, width_, height_);
+    const view::ViewAngles& v = orbit_->angles();
+    camera_ =
+        render::fit_camera(centre_, v.zoom * radius_, render::look_direction(up_axis_, v.azimuth_deg, v.elevation_deg),
+                           up_axis_, width_, height_);
     // Closer in, the model still reaches radius_ around its centre: the depth range keeps it all.
     const double distance = deform::norm(camera_.eye - camera_.target);
     camera_.near_distance = std::max(distance - 1.5 * radius_, 1e-3 * distance);
@@ -286,6 +283,7 @@ class ViewCommand final : public Command {
           dirty_ = true;
         }
       }
+      camera_pointer();
       bool changed = false;
       const auto now = Clock::now();
       playback.advance(std::chrono::duration<double>(now - last).count());
@@ -333,6 +331,7 @@ class ViewCommand final : public Command {
       if (key == view::Key::kQuit) quit_ = true;
       camera_key(key);
     }
+    camera_pointer();
     return quit_ || window_->closed();
   }
 
@@ -399,8 +398,8 @@ class ViewCommand final : public Command {
   render::Camera camera_;
   render::UpAxis up_axis_ = render::UpAxis::kY;
   render::Vec3 centre_;
-  double radius_ = 1.0, zoom_ = 1.0;
-  std::tuple<double, double, double> first_view_;  // azimuth, elevation, zoom
+  double radius_ = 1.0;
+  std::optional<view::OrbitView> orbit_;  // from the window's opening
   bool model_changed_ = true, dirty_ = true, quit_ = false;
   std::optional<Clock::time_point> last_draw_;
   bool splats_stale_ = false;      // the drawn copy moved since its splat sizes were measured
