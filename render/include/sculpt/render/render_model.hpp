@@ -35,11 +35,12 @@ class RenderModel {
   explicit RenderModel(const deform::PointModel& model);
 
   /// The same model after a deformation: takes its positions and normals (recomputed as the
-  /// constructor does when it has none) and keeps the colours and the splat sizes, which stay
-  /// those of the model this was built from. A live view calls this for every frame and builds
-  /// anew once the model is still, since measuring the spacing of every point costs far more
-  /// than the copy (0.41-0.48 s against 2 ms for 437,645 points here). Throws std::invalid_argument
-  /// when the point count is not this model's.
+  /// constructor does when it has none), keeps the colours, and sizes each splat again from the
+  /// neighbours the build found for it, where they are now: a stretch widens the splats it
+  /// opens gaps between. Finding every point's neighbours anew costs far more (0.41-0.48 s
+  /// for 437,645 points here), so a live view calls this for every frame and builds anew once
+  /// the model is still (neighbours that were not the nearest at the build are not seen here).
+  /// Throws std::invalid_argument when the point count is not this model's.
   void follow(const deform::PointModel& model);
 
   /// Replaces the base colours (one per point; e.g. a heat map). Throws std::invalid_argument
@@ -65,6 +66,10 @@ class RenderModel {
   std::vector<float> positions_, normals_, colors_;
   std::vector<std::uint32_t> triangles_;
   std::vector<SplatClass> splat_classes_;
+  // For a model drawn as splats: each point's nearest distinct neighbours at the build, three
+  // per point, and the build's typical spacing, which the classes' sizes are quarter octaves of.
+  std::vector<std::uint32_t> splat_neighbours_;
+  double typical_spacing_ = 0.0;
 };
 
 }  // namespace sculpt::render
