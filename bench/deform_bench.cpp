@@ -423,6 +423,26 @@ void register_all() {
           ->Arg(5)
           ->UseRealTime()
           ->Unit(ms);
+      // The same global frames on the scan stored in Z order (sculpt order): a register of 16
+      // points in a row is then 16 neighbours, so the bounded pass finds whole registers far
+      // from every finger where the file's order mixes near and far points in each.
+      if (p == Precision::kFloat) {
+        const std::string ordered = name + kZOrder;
+        RegisterBenchmark(("Scan/" + name + "/global_2threads_zorder/" + tag).c_str(),
+                          [p, ordered](benchmark::State& s) { frame(s, ordered, p, 0.0, 2); })
+            ->Arg(5)
+            ->UseRealTime()
+            ->Unit(ms);
+        RegisterBenchmark(("Scan/" + name + "/global_bounded_zorder/" + tag).c_str(),
+                          [p, ordered](benchmark::State& s) { frame(s, ordered, p, 0.0, 1, 1e-2); })
+            ->Arg(5)
+            ->Unit(ms);
+        RegisterBenchmark(("Scan/" + name + "/global_bounded_2threads_zorder/" + tag).c_str(),
+                          [p, ordered](benchmark::State& s) { frame(s, ordered, p, 0.0, 2, 1e-2); })
+            ->Arg(5)
+            ->UseRealTime()
+            ->Unit(ms);
+      }
       // 1/r from the processor's estimate (FieldOptions::fast_inverse_sqrt; float only).
       if (p == Precision::kFloat) {
         RegisterBenchmark(("Scan/" + name + "/global_fast_isqrt/" + tag).c_str(),
