@@ -164,7 +164,8 @@ void LiveView::expect_camera_mouse(const fs::path& out) {
   const render::Camera first = printed_camera(read_text(out), before - 1);
   ASSERT_EQ(first.width, 640);
   ASSERT_EQ(first.height, 480);
-  ASSERT_TRUE(send_mouse("mousemove --window %1 200 150 mousedown 1 mousemove --window %1 280 120 mouseup 1 click 4"));
+  ASSERT_TRUE(send_mouse("mousemove --window %1 200 150 mousedown 1 mousemove --window %1 280 120 mouseup 1 click 4"))
+      << "xdotool failed";
   const deform::Vec3 eye0 = first.eye - first.target;
   const auto distance_ratio = [&](const std::string& text) {
     const std::vector<std::string> lines = lines_starting(text, "view: camera ");
@@ -184,9 +185,9 @@ void LiveView::expect_camera_mouse(const fs::path& out) {
   EXPECT_NEAR(deform::norm(last.target - first.target), 0.0, 1e-12);
   const auto azimuth = [](const deform::Vec3& v) { return std::atan2(v.y, v.x) * 180.0 / M_PI; };
   const auto elevation = [](const deform::Vec3& v) { return std::asin(v.z / deform::norm(v)) * 180.0 / M_PI; };
-  EXPECT_NEAR(std::remainder(azimuth(eye) - azimuth(eye0), 360.0), -22.5, 1e-6);
-  EXPECT_NEAR(elevation(eye) - elevation(eye0), -5.625, 1e-6);
-  EXPECT_NEAR(deform::norm(eye) / deform::norm(eye0), 0.8, 1e-6);
+  EXPECT_NEAR(std::remainder(azimuth(eye) - azimuth(eye0), 360.0), -22.5, 1e-6) << text;
+  EXPECT_NEAR(elevation(eye) - elevation(eye0), -5.625, 1e-6) << text;
+  EXPECT_NEAR(deform::norm(eye) / deform::norm(eye0), 0.8, 1e-6) << text;
   std::printf("[ view ] drag and wheel: %zu camera lines\n", lines.size() - before);
 }
 
