@@ -406,42 +406,28 @@ void register_all() {
           ->Arg(1)
           ->Arg(5)
           ->Unit(ms);
+      // A five-finger global row on `model` (this scan, or its Z-ordered copy): on more than one
+      // thread wall time, since the caller's CPU time would leave out the worker's share.
+      const auto global_row = [&](const std::string& row, const std::string& model, int threads, double bound) {
+        auto* b = RegisterBenchmark(
+            ("Scan/" + name + "/" + row + "/" + tag).c_str(),
+            [p, model, threads, bound](benchmark::State& s) { frame(s, model, p, 0.0, threads, bound); });
+        b->Arg(5)->Unit(ms);
+        if (threads > 1) b->UseRealTime();
+      };
       // Both cores: the deformer's worker takes half of the displacement pass.
-      RegisterBenchmark(("Scan/" + name + "/global_2threads/" + tag).c_str(),
-                        [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 2); })
-          ->Arg(5)
-          ->UseRealTime()  // the caller's CPU time would leave out the worker's half
-          ->Unit(ms);
+      global_row("global_2threads", name, 2, 0.0);
       // The bounded normal update (FieldOptions::normal_skip_bound = 1e-2: a kept normal is
       // within 1.0e-2 rad of the carried one), on one core and on both.
-      RegisterBenchmark(("Scan/" + name + "/global_bounded/" + tag).c_str(),
-                        [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 1, 1e-2); })
-          ->Arg(5)
-          ->Unit(ms);
-      RegisterBenchmark(("Scan/" + name + "/global_bounded_2threads/" + tag).c_str(),
-                        [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 2, 1e-2); })
-          ->Arg(5)
-          ->UseRealTime()
-          ->Unit(ms);
+      global_row("global_bounded", name, 1, 1e-2);
+      global_row("global_bounded_2threads", name, 2, 1e-2);
       // The same global frames on the scan stored in Z order (sculpt order): a register of 16
       // points in a row is then 16 neighbours, so the bounded pass finds whole registers far
       // from every finger where the file's order mixes near and far points in each.
       if (p == Precision::kFloat) {
-        const std::string ordered = name + kZOrder;
-        RegisterBenchmark(("Scan/" + name + "/global_2threads_zorder/" + tag).c_str(),
-                          [p, ordered](benchmark::State& s) { frame(s, ordered, p, 0.0, 2); })
-            ->Arg(5)
-            ->UseRealTime()
-            ->Unit(ms);
-        RegisterBenchmark(("Scan/" + name + "/global_bounded_zorder/" + tag).c_str(),
-                          [p, ordered](benchmark::State& s) { frame(s, ordered, p, 0.0, 1, 1e-2); })
-            ->Arg(5)
-            ->Unit(ms);
-        RegisterBenchmark(("Scan/" + name + "/global_bounded_2threads_zorder/" + tag).c_str(),
-                          [p, ordered](benchmark::State& s) { frame(s, ordered, p, 0.0, 2, 1e-2); })
-            ->Arg(5)
-            ->UseRealTime()
-            ->Unit(ms);
+        global_row("global_2threads_zorder", name + kZOrder, 2, 0.0);
+        global_row("global_bounded_zorder", name + kZOrder, 1, 1e-2);
+        global_row("global_bounded_2threads_zorder", name + kZOrder, 2, 1e-2);
       }
       // 1/r from the processor's estimate (FieldOptions::fast_inverse_sqrt; float only).
       if (p == Precision::kFloat) {
