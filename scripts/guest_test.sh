@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Runs a test suite inside Debian's own kernel, booted by qemu, for the parts of hal that need
-# kernel features this host may lack (AF_CAN and vcan; dummy_hcd and FunctionFS).
+# kernel features this host may lack (AF_CAN and vcan; dummy_hcd and FunctionFS) or hardware
+# it does not have (a UART: the 8250 driver on qemu's 16550A).
 #
-#   scripts/guest_test.sh [SUITE]        SUITE: can (default) or usb
+#   scripts/guest_test.sh [SUITE]        SUITE: can (default), usb or uart
 #
 # Environment: BUILD (build directory, default ./build; the suite's test programs are taken
 # from its tests/ folder), QEMU, BUSYBOX, GUEST_TIMEOUT (seconds, default 240), GUEST_KERNEL_PACKAGE
@@ -37,7 +38,8 @@ GUEST_DIR=$SOURCE/tests/guest
 
 # Per suite: the modules to load (their dependencies come along), the project's programs (built
 # targets, under /opt/sculpt/ in the guest) and host programs (under /opt/host/) to copy in
-# with their libraries.
+# with their libraries; and the devices qemu adds for it.
+DEVICES=()
 case "$SUITE" in
   can)
     MODULES=(vcan can-raw)
@@ -49,7 +51,13 @@ case "$SUITE" in
     TARGETS=(guest_usb_tests ffs_glove)
     PROGRAMS=()
     ;;
-  *) fail "unknown suite '$SUITE' (can, usb)" ;;
+  uart) # the 8250 driver is built into Debian's kernel (its console is one)
+    MODULES=()
+    TARGETS=(guest_uart_tests)
+    PROGRAMS=()
+    DEVICES=(-serial mon:stdio -serial null) # ttyS0 the console, as -nographic alone gives it
+    ;;
+  *) fail "unknown suite '$SUITE' (can, usb, uart)" ;;
 esac
 [ -f "$GUEST_DIR/$SUITE.sh" ] || fail "no $GUEST_DIR/$SUITE.sh"
 
@@ -116,7 +124,7 @@ add_module() { # path relative to MODDIR
   done
   ORDERED+=("$path")
 }
-for name in "${MODULES[@]}"; do
+for name in ${MODULES[@]+"${MODULES[@]}"}; do
   path=$(module_path "$name") || fail "$KERNEL_PACKAGE has no module $name"
   add_module "$path"
 done
@@ -187,7 +195,7 @@ LOG=$CACHE/console-$SUITE.log
 # boot ACCEL_OPTIONS...: runs qemu in the background writing the console to $LOG; sets QEMU_PID.
 boot() {
   : >"$LOG"
-  timeout "$GUEST_TIMEOUT" "$QEMU" "$@" -smp 1 -m 1G -nographic -no-reboot -nic none \
+  timeout "$GUEST_TIMEOUT" "$QEMU" "$@" ${DEVICES[@]+"${DEVICES[@]}"} -smp 1 -m 1G -nographic -no-reboot -nic none \
     -kernel "$KERNEL/root/boot/vmlinuz-$KERNEL_VERSION" -initrd "$INITRD" \
     -append "console=ttyS0 quiet loglevel=3 panic=-1" </dev/null >"$LOG" 2>&1 &
   QEMU_PID=$!

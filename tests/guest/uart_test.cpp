@@ -1,0 +1,300 @@
+// The serial haptic sink on a UART: the Linux 8250 driver and its serial core on qemu's 16550A,
+// where a pty has no driver buffer at all (TIOCOUTQ always 0 there, so the host tests give the
+// sink a stand-in for it). tests/guest/uart.sh names the UART in GLOVE_UART.
+//
+// The line is stalled and released from the test's own descriptor on the same UART: in the
+// UART's loopback mode (TIOCM_LOOP) its CTS input is its own RTS output, so with RTS low and
+// CTS flow control on (CRTSCTS) the driver holds what is written as behind a glove that is not
+// reading; with flow control off the bytes go out at once and come back in on the receiver,
+// where the test decodes the frames that reached the wire. The sink never reads; the test never
+// writes. Skips, saying so, anywhere else.
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "sculpt/hal/frame_codec.hpp"
+#include "serial_haptic_sink.hpp"
+
+namespace sculpt::hal {
+namespace {
+
+// The modem-control bit that puts a UART in loopback (the kernel's asm-generic/termios.h, which
+// cannot be included beside glibc's <termios.h>; the serial core passes it to the 8250's MCR).
+constexpr int kLoopback = 0x8000;  // TIOCM_LOOP
+
+std::string uart_path() {
+  const char* path = std::getenv("GLOVE_UART");
+  return path != nullptr ? path : "";
+}
+
+bool eventually(const std::function<bool()>& done, int seconds = 10) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > give_up) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
+}
+
+HapticCommand command(std::uint32_t tick) {
+  HapticCommand c;
+  c.hand = 0;
+  c.tick = tick;
+  c.active_mask = 0x1F;
+  for (std::size_t f = 0; f < kFingers; ++f) c.force[f] = {0.25f * static_cast<float>(f), -1.0f, 1e-3f * tick};
+  return c;
+}
+
+// The test's descriptor on the UART: stalls and releases its line and reads what it sent.
+class Line {
+ public:
+  explicit Line(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC)) {}
+  ~Line() {
+    if (fd_ < 0) return;
+    set_flow_control(false);
+    int loop = kLoopback;
+    ::ioctl(fd_, TIOCMBIC, &loop);
+    ::close(fd_);
+  }
+  Line(const Line&) = delete;
+  Line& operator=(const Line&) = delete;
+
+  bool open() const { return fd_ >= 0; }
+
+  // Raw (no echo: every byte received would otherwise go out again), loopback, RTS low: the
+  // line is then held whenever CTS flow control is on.
+  bool loop_back() {
+    termios tio{};
+    if (::tcgetattr(fd_, &tio) != 0) return false;
+    ::cfmakeraw(&tio);
+    tio.c_cflag |= CLOCAL | CREAD;
+    if (::tcsetattr(fd_, TCSANOW, &tio) != 0) return false;
+    int loop = kLoopback, rts = TIOCM_RTS;
+    return ::ioctl(fd_, TIOCMBIS, &loop) == 0 && ::ioctl(fd_, TIOCMBIC, &rts) == 0;
+  }
+  // The serial core samples CTS when CRTSCTS changes: on, it finds CTS low and stops sending;
+  // off, it sends what waits.
+  bool set_flow_control(bool on) {
+    termios tio{};
+    if (::tcgetattr(fd_, &tio) != 0) return false;
+    tio.c_cflag = on ? (tio.c_cflag | CRTSCTS) : (tio.c_cflag & ~tcflag_t{CRTSCTS});
+    return ::tcsetattr(fd_, TCSANOW, &tio) == 0;
+  }
+  bool hold() { return set_flow_control(true); }
+  bool release() { return set_flow_control(false); }
+
+  // Bytes written to the UART and not yet sent (what the sink's probe reads too).
+  int unsent() const {
+    int pending = -1;
+    return ::ioctl(fd_, TIOCOUTQ, &pending) == 0 ? pending : -1;
+  }
+
+  // Appends what the receiver has to `bytes`; returns how many.
+  std::size_t read_into(std::vector<std::uint8_t>& bytes) const {
+    std::size_t total = 0;
+    std::array<std::uint8_t, 1024> buffer{};
+    for (;;) {
+      const ssize_t n = ::read(fd_, buffer.data(), buffer.size());
+      if (n <= 0) return total;
+      bytes.insert(bytes.end(), buffer.begin(), buffer.begin() + n);
+      total += static_cast<std::size_t>(n);
+    }
+  }
+
+ private:
+  int fd_;
+};
+
+// The haptic frames that reached the wire, decoded from what the line's receiver got.
+struct Wire {
+  void read(const Line& line) {
+    bytes.clear();
+    line.read_into(bytes);
+    decoder.feed(std::span<const std::uint8_t>(bytes.data(), bytes.size()), [&](const DecodedFrame& f) {
+      if (f.type != DecodedFrame::Type::kHaptic) return;
+      ticks.push_back(f.haptic.tick);
+      sequences.push_back(f.sequence);
+    });
+  }
+  bool ends_with(std::uint32_t tick) const { return !ticks.empty() && ticks.back() == tick; }
+  // Every frame whole (no CRC or framing error) and the frames in the order written.
+  void expect_whole_and_in_order() const {
+    EXPECT_EQ(decoder.counters().crc_errors, 0u);
+    EXPECT_EQ(decoder.counters().framing_errors, 0u);
+    for (std::size_t i = 1; i < ticks.size(); ++i) EXPECT_GT(ticks[i], ticks[i - 1]) << "frame " << i;
+  }
+
+  FrameDecoder decoder;
+  std::vector<std::uint8_t> bytes;
+  std::vector<std::uint32_t> ticks, sequences;
+};
+
+class Uart : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (uart_path().empty()) GTEST_SKIP() << "no UART here (GLOVE_UART unset; scripts/guest_test.sh uart)";
+    config_.device = uart_path();
+    config_.baud = 115200;  // a 16550A's fastest at its 1.8432 MHz clock
+    config_.reconnect_interval_ms = 20.0;
+  }
+
+  // The sink started on the UART, then the line held from the test's descriptor (after the
+  // sink's own settings of the same terminal, which would undo the test's).
+  void start_sink_on_held_line() {
+    line_ = std::make_unique<Line>(uart_path());
+    ASSERT_TRUE(line_->open()) << uart_path();
+    sink_ = std::make_unique<SerialHapticSink>(config_, 1024);
+    sink_->start();
+    ASSERT_TRUE(sink_->connected());
+    ASSERT_TRUE(line_->loop_back());
+    ASSERT_TRUE(line_->hold());
+  }
+
+  // Releases the line, reads the wire until the frame of tick `newest` is on it, stops the sink
+  // and reads what is left.
+  void release_until(Wire& wire, std::uint32_t newest) {
+    ASSERT_TRUE(line_->release());
+    ASSERT_TRUE(eventually([&] {
+      wire.read(*line_);
+      return wire.ends_with(newest);
+    })) << "the newest command never reached the wire ("
+        << wire.ticks.size() << " frames)";
+    sink_->stop();
+    wire.read(*line_);
+  }
+
+  SerialConfig config_;
+  std::unique_ptr<Line> line_;
+  std::unique_ptr<SerialHapticSink> sink_;
+};
+
+TEST_F(Uart, AHeldLineKeepsWhatIsWrittenAndAReleasedOneSendsItBack) {
+  // What the sink tests below rely on: the stall is real (the driver counts the bytes it holds
+  // in TIOCOUTQ) and a release sends every byte, in order, onto the receiver.
+  Line line(uart_path());
+  ASSERT_TRUE(line.open()) << uart_path();
+  ASSERT_TRUE(line.loop_back());
+  ASSERT_TRUE(line.hold());
+  const int writer = ::open(uart_path().c_str(), O_WRONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  ASSERT_GE(writer, 0);
+  std::vector<std::uint8_t> sent(1000);
+  for (std::size_t i = 0; i < sent.size(); ++i) sent[i] = static_cast<std::uint8_t>(i * 7 + 3);
+  ASSERT_EQ(::write(writer, sent.data(), sent.size()), static_cast<ssize_t>(sent.size()));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  // A 16550A may have taken up to its 16-byte FIFO before the stop.
+  EXPECT_GE(line.unsent(), static_cast<int>(sent.size()) - 16);
+  std::vector<std::uint8_t> received;
+  line.read_into(received);
+  EXPECT_LE(received.size(), 16u);
+  ASSERT_TRUE(line.release());
+  EXPECT_TRUE(eventually([&] {
+    line.read_into(received);
+    return received.size() >= sent.size();
+  })) << received.size()
+      << " of " << sent.size() << " bytes came back";
+  EXPECT_EQ(line.unsent(), 0);
+  EXPECT_EQ(received, sent);
+  ::close(writer);
+}
+
+TEST_F(Uart, TheSinkQueuesAtMostAFrameBehindAStalledLineAndSendsTheNewestWhenItMoves) {
+  // The glove stops reading for 300 ms while the loop sends a command every millisecond. The
+  // driver would take about 4 KB (47 frames) behind which every later force waits; the sink
+  // asks it (TIOCOUTQ) and writes only while at most a frame waits, holding the newest command
+  // meanwhile. Released, the line carries the frames the driver held and then the newest.
+  ASSERT_NO_FATAL_FAILURE(start_sink_on_held_line());
+  Line& line = *line_;
+  SerialHapticSink& sink = *sink_;
+  constexpr std::uint32_t kCommands = 300;
+  std::uint32_t accepted = 0;
+  int most_unsent = 0;
+  for (std::uint32_t t = 0; t < kCommands; ++t) {
+    accepted += sink.send(command(t));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    most_unsent = std::max(most_unsent, line.unsent());
+  }
+  ASSERT_TRUE(eventually([&] { return sink.frames_written() + sink.superseded() + sink.dropped() + 1 >= accepted; }))
+      << "the sink did not take every command";
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  most_unsent = std::max(most_unsent, line.unsent());
+  const std::uint64_t written_while_held = sink.frames_written();
+
+  Wire wire;
+  ASSERT_NO_FATAL_FAILURE(release_until(wire, kCommands - 1));
+
+  std::printf(
+      "[ uart ] %u commands against a held line: at most %d bytes in the driver, %llu frames written while "
+      "held, %zu on the wire, %llu superseded, %llu dropped\n",
+      kCommands, most_unsent, static_cast<unsigned long long>(written_while_held), wire.ticks.size(),
+      static_cast<unsigned long long>(sink.superseded()), static_cast<unsigned long long>(sink.dropped()));
+  EXPECT_GT(most_unsent, 0) << "the line never held a byte: nothing here was tested";
+  EXPECT_LE(most_unsent, static_cast<int>(2 * SerialHapticSink::kMaxBacklogBytes));
+  EXPECT_LE(written_while_held, 2u);
+  EXPECT_LE(wire.ticks.size(), 3u) << "a backlog of old forces reached the wire";
+  EXPECT_EQ(wire.ticks.size(), sink.frames_written());
+  EXPECT_EQ(sink.frames_written() + sink.superseded() + sink.dropped(), accepted);
+  EXPECT_EQ(sink.dropped(), 0u);
+  wire.expect_whole_and_in_order();
+}
+
+TEST_F(Uart, OnALineThatMovesInBurstsTheDriverNeverHoldsMoreThanTwoFrames) {
+  // A glove slower than the loop: the line moves 1 ms in every 5 while a command comes every
+  // millisecond, for a second. Counted in bytes and frames, not time, so that the guest's
+  // emulated clock does not decide the result: the driver never holds more than two frames (the
+  // one going out and the one behind it), every frame the sink wrote reaches the wire whole and
+  // in order, and the last is the newest command. (When the test reads a frame says nothing
+  // about the line: it reads once a millisecond.)
+  ASSERT_NO_FATAL_FAILURE(start_sink_on_held_line());
+  Line& line = *line_;
+  SerialHapticSink& sink = *sink_;
+  Wire wire;
+  constexpr std::uint32_t kCommands = 1000;
+  std::uint32_t accepted = 0;
+  int most_unsent = 0;
+  for (std::uint32_t t = 0; t < kCommands; ++t) {
+    if (t % 5 == 4) {
+      ASSERT_TRUE(line.release());
+    } else if (t % 5 == 0) {
+      ASSERT_TRUE(line.hold());
+    }
+    accepted += sink.send(command(t));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    most_unsent = std::max(most_unsent, line.unsent());
+    wire.read(line);
+  }
+  ASSERT_NO_FATAL_FAILURE(release_until(wire, kCommands - 1));
+
+  std::printf(
+      "[ uart ] a line moving 1 ms in 5: %zu frames on the wire of %u commands, at most %d bytes in the driver, "
+      "%llu superseded\n",
+      wire.ticks.size(), accepted, most_unsent, static_cast<unsigned long long>(sink.superseded()));
+  EXPECT_GT(most_unsent, 0) << "the line never held a byte: nothing here was tested";
+  EXPECT_LE(most_unsent, static_cast<int>(2 * SerialHapticSink::kMaxBacklogBytes));
+  EXPECT_EQ(wire.ticks.size(), sink.frames_written());
+  for (std::size_t i = 0; i < wire.sequences.size(); ++i) {
+    ASSERT_EQ(wire.sequences[i], i) << "a frame missing before " << i;
+  }
+  EXPECT_LT(wire.ticks.size(), static_cast<std::size_t>(accepted));
+  EXPECT_EQ(sink.frames_written() + sink.superseded() + sink.dropped(), accepted);
+  EXPECT_EQ(sink.dropped(), 0u);
+  wire.expect_whole_and_in_order();
+}
+
+}  // namespace
+}  // namespace sculpt::hal
