@@ -57,7 +57,14 @@ void SerialGloveSource::start() {
   ever_connected_ = false;
   state_.store(SourceState::kConnecting, std::memory_order_release);
   // One attempt here, so a glove that is already plugged in is connected when start() returns.
-  try_connect();
+  // A rate the device refuses is the configuration's error, which retrying cannot mend: it
+  // stops the start (SerialPort::RateRefused, naming the device and both rates).
+  try {
+    connect();
+  } catch (const SerialPort::RateRefused&) {
+    state_.store(SourceState::kStopped, std::memory_order_release);
+    throw;
+  }
   try {
     thread_ = std::thread([this] { run(); });
   } catch (const std::system_error& e) {
@@ -97,6 +104,23 @@ std::string SerialGloveSource::last_error() const {
 bool SerialGloveSource::try_connect() noexcept {
   // Not the real-time path: strings may allocate here; nothing may escape the thread.
   try {
+    return connect();
+  } catch (const std::exception& e) {
+    port_.close();
+    try {
+      const std::lock_guard lock(error_mutex_);
+      last_error_ = e.what();
+    } catch (...) {  // no memory for the message: the failed attempt is all there is to say
+    }
+    return false;
+  } catch (...) {
+    port_.close();
+    return false;
+  }
+}
+
+bool SerialGloveSource::connect() {
+  {
     std::string error;
     if (!port_.try_open(config_.device, config_.baud, error)) {
       const std::lock_guard lock(error_mutex_);
@@ -105,9 +129,6 @@ bool SerialGloveSource::try_connect() noexcept {
     }
     const std::lock_guard lock(error_mutex_);
     last_error_.clear();
-  } catch (...) {
-    port_.close();
-    return false;
   }
   // Bytes from before the drop must not be glued to the new connection's first frame.
   decoder_.reset();

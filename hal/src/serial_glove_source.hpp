@@ -37,7 +37,8 @@ class SerialGloveSource final : public GloveSource {
   /// Tries to open the device once, then starts the I/O thread, which keeps trying if that
   /// failed: the state is kConnected or kConnecting. A glove plugged in later is picked up.
   /// @throw std::runtime_error when already started, when the path exists but is not a
-  ///        terminal, or when the thread cannot be created
+  ///        terminal, or when the thread cannot be created; SerialPort::RateRefused when the
+  ///        device runs the line at another rate than config.baud
   void start() override;
   /// Stops the I/O thread (promptly: it is woken, not waited out) and closes the device.
   void stop() override;
@@ -54,6 +55,8 @@ class SerialGloveSource final : public GloveSource {
  private:
   void run() noexcept;
   bool try_connect() noexcept;
+  /// try_connect's attempt, letting SerialPort's exceptions out (start() stops on a refused rate).
+  bool connect();
   void disconnect() noexcept;
   void handle_bytes(std::span<const std::uint8_t> bytes) noexcept;
 

@@ -49,7 +49,8 @@ void SerialHapticSink::start() {
   }
   stop_requested_.store(false, std::memory_order_relaxed);
   sequence_ = 0;
-  try_connect();
+  // One attempt here; a rate the device refuses stops the start, as the glove source's does.
+  connect();
   try {
     thread_ = std::thread([this] { run(); });
   } catch (const std::system_error& e) {
@@ -89,12 +90,16 @@ bool SerialHapticSink::connected() const noexcept { return connected_.load(std::
 
 bool SerialHapticSink::try_connect() noexcept {
   try {
-    std::string error;
-    if (!port_.try_open(config_.device, config_.baud, error)) return false;
+    return connect();
   } catch (...) {
     port_.close();
     return false;
   }
+}
+
+bool SerialHapticSink::connect() {
+  std::string error;
+  if (!port_.try_open(config_.device, config_.baud, error)) return false;
   connected_.store(true, std::memory_order_release);
   return true;
 }

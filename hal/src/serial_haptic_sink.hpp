@@ -52,7 +52,8 @@ class SerialHapticSink final : public HapticSink {
   SerialHapticSink& operator=(const SerialHapticSink&) = delete;
 
   /// Tries to open the device once, then starts the writer thread, which keeps trying.
-  /// @throw std::runtime_error when already started or the path is not a character device
+  /// @throw std::runtime_error when already started or the path is not a character device;
+  ///   SerialPort::RateRefused when the device runs the line at another rate than config.baud
   void start() override;
   /// Stops the writer thread and closes the device. Idempotent.
   void stop() override;
@@ -74,6 +75,8 @@ class SerialHapticSink final : public HapticSink {
  private:
   void run() noexcept;
   bool try_connect() noexcept;
+  /// try_connect's attempt, letting SerialPort's exceptions out (start() stops on a refused rate).
+  bool connect();
   /// Sends the newest command of each hand; true when one is held back for the backlog.
   bool drain_queue() noexcept;
   /// Writes the whole frame, or gives up after kWriteTimeoutMs; `sent` counts bytes written.

@@ -40,6 +40,14 @@ speed_t baud_code(int baud) {
                               " is not a standard rate (e.g. 115200, 921600, 1000000)");
 }
 
+// The number of a Bxxx constant, or 0 for one the table does not hold (BOTHER, say).
+int rate_of(speed_t code) {
+  for (const BaudEntry& e : kBaudTable) {
+    if (e.code == code) return e.rate;
+  }
+  return 0;
+}
+
 std::string os_error(const std::string& path, const char* step, int err) {
   return "serial " + path + ": " + step + ": " + std::strerror(err);
 }
@@ -97,6 +105,8 @@ bool SerialPort::try_open(const std::string& path, int baud, std::string& error)
       step = "cfsetspeed";
     } else if (::tcsetattr(fd, TCSANOW, &tio) != 0) {
       step = "tcsetattr";
+    } else if (::tcgetattr(fd, &tio) != 0) {
+      step = "tcgetattr";
     }
   }
   if (step != nullptr) {
@@ -104,6 +114,16 @@ bool SerialPort::try_open(const std::string& path, int baud, std::string& error)
     ::close(fd);
     error = os_error(path, step, err);
     return false;
+  }
+  // tcsetattr succeeds when any of the settings took, and a UART driver that cannot make the
+  // rate from its clock keeps another one (the 8250's serial core falls back to the old rate or
+  // 9600): read back what the line runs at.
+  if (::cfgetospeed(&tio) != speed || ::cfgetispeed(&tio) != speed) {
+    const int kept = rate_of(::cfgetospeed(&tio));
+    ::close(fd);
+    throw RateRefused("serial " + path + ": the driver runs the line at " +
+                      (kept > 0 ? std::to_string(kept) + " baud" : std::string("another rate")) + ", not the " +
+                      std::to_string(baud) + " baud asked: the device cannot make that rate");
   }
   fd_ = fd;
   return true;

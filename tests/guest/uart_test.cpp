@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "sculpt/hal/frame_codec.hpp"
+#include "serial_glove_source.hpp"
 #include "serial_haptic_sink.hpp"
 
 namespace sculpt::hal {
@@ -211,6 +212,49 @@ TEST_F(Uart, AHeldLineKeepsWhatIsWrittenAndAReleasedOneSendsItBack) {
   EXPECT_EQ(line.unsent(), 0);
   EXPECT_EQ(received, sent);
   ::close(writer);
+}
+
+TEST_F(Uart, ARateTheUartCannotMakeStopsTheStartNamingBothRates) {
+  // A 16550A makes at most 115,200 baud from its 1.8432 MHz clock. Asked for 921,600 (the
+  // backends' default, which a USB-serial adapter makes), Linux's serial core keeps another rate
+  // and tcsetattr still succeeds: without reading the rate back, the sink would drive the hand
+  // over a line eight times slower than configured (or the source read the glove's bytes at the
+  // wrong rate, as noise), and nothing would say why.
+  SerialConfig fast = config_;
+  fast.baud = 921600;
+  const auto expect_refused = [](auto& backend) {
+    try {
+      backend.start();
+      ADD_FAILURE() << "started at a rate the UART cannot make";
+    } catch (const SerialPort::RateRefused& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(uart_path()), std::string::npos) << what;
+      EXPECT_NE(what.find("not the 921600 baud asked"), std::string::npos) << what;
+      EXPECT_NE(what.find("at 115200 baud"), std::string::npos) << what;  // the rate the line had
+      std::printf("[ uart ] %s\n", what.c_str());
+    }
+  };
+  {
+    SerialHapticSink at_115200(config_, 16);  // leaves the line at 115,200, as the glove's other end
+    at_115200.start();
+    EXPECT_TRUE(at_115200.connected());
+  }
+  SerialHapticSink sink(fast, 16);
+  expect_refused(sink);
+  EXPECT_FALSE(sink.connected());
+  SerialGloveSource source(fast, 16);
+  expect_refused(source);
+  EXPECT_EQ(source.state(), SourceState::kStopped);
+  // Both rates a 16550A makes open as before.
+  SerialConfig slow = config_;
+  slow.baud = 9600;
+  SerialGloveSource at_9600(slow, 16);
+  at_9600.start();
+  EXPECT_EQ(at_9600.state(), SourceState::kConnected);
+  at_9600.stop();
+  SerialHapticSink at_115200(config_, 16);
+  at_115200.start();
+  EXPECT_TRUE(at_115200.connected());
 }
 
 TEST_F(Uart, TheSinkQueuesAtMostAFrameBehindAStalledLineAndSendsTheNewestWhenItMoves) {

@@ -37,6 +37,7 @@ class SerialFrameWriter {
 
   /// Closes and opens the same device again (after it disappeared). False when it cannot be
   /// opened yet; last_error() says why.
+  /// @throw SerialPort::RateRefused when the device now runs the line at another rate
   bool reopen();
 
   /// Whether the device is open.

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 
 namespace sculpt::hal {
@@ -44,9 +45,19 @@ class SerialPort {
   ///        opened or configured
   void open(const std::string& path, int baud);
 
+  /// The device opened but runs the line at another rate than the one asked (a UART whose
+  /// clock cannot make it: Linux's serial core then keeps the old rate or 9600, and tcsetattr
+  /// still succeeds). A configuration error, not a missing device: retrying cannot help.
+  class RateRefused : public std::runtime_error {
+   public:
+    using std::runtime_error::runtime_error;
+  };
+
   /// Like open(), but reports an OS failure by returning false and leaving the message in
   /// `error` (for reconnect loops, where a missing device is the normal case).
   /// @throw std::invalid_argument when `baud` is not a standard rate
+  /// @throw RateRefused "serial <path>: the driver runs the line at 9600 baud, not the 921600
+  ///        baud asked: ..." (the device is left closed)
   bool try_open(const std::string& path, int baud, std::string& error);
 
   /// Closes the device. Idempotent.
