@@ -61,7 +61,7 @@ void SerialGloveSource::start() {
   // stops the start (SerialPort::RateRefused, naming the device and both rates).
   try {
     connect();
-  } catch (const SerialPort::RateRefused&) {
+  } catch (...) {
     state_.store(SourceState::kStopped, std::memory_order_release);
     throw;
   }
