@@ -98,6 +98,11 @@ bool SerialPort::try_open(const std::string& path, int baud, std::string& error)
   } else {
     ::cfmakeraw(&tio);
     tio.c_cflag |= CLOCAL | CREAD;
+    // What an earlier program left on must not outlive it, and cfmakeraw keeps these: hardware
+    // flow control (CRTSCTS) would stall every frame written to a glove that does not drive
+    // CTS, and IXOFF would put XOFF/XON bytes into the frames sent. One stop bit.
+    tio.c_cflag &= ~static_cast<tcflag_t>(CRTSCTS | CSTOPB);
+    tio.c_iflag &= ~static_cast<tcflag_t>(IXOFF | IXANY);
     // Reads return at once with whatever is there; the caller waits in poll(), not in read().
     tio.c_cc[VMIN] = 0;
     tio.c_cc[VTIME] = 0;

@@ -98,6 +98,18 @@ class Line {
     return ::tcsetattr(fd_, TCSANOW, &tio) == 0;
   }
   bool hold() { return set_flow_control(true); }
+  // Software flow control of the input, as a terminal program may leave it.
+  bool set_input_flow_control() {
+    termios tio{};
+    if (::tcgetattr(fd_, &tio) != 0) return false;
+    tio.c_iflag |= IXOFF;
+    return ::tcsetattr(fd_, TCSANOW, &tio) == 0;
+  }
+  termios settings() const {
+    termios tio{};
+    ::tcgetattr(fd_, &tio);
+    return tio;
+  }
   bool release() { return set_flow_control(false); }
 
   // Bytes written to the UART and not yet sent (what the sink's probe reads too).
@@ -255,6 +267,31 @@ TEST_F(Uart, ARateTheUartCannotMakeStopsTheStartNamingBothRates) {
   SerialHapticSink at_115200(config_, 16);
   at_115200.start();
   EXPECT_TRUE(at_115200.connected());
+}
+
+TEST_F(Uart, FlowControlAnEarlierProgramLeftOnDoesNotStallTheSink) {
+  // A terminal program left CTS flow control (and XON/XOFF on input) on, and the glove does not
+  // drive CTS (here: loopback with RTS low). The sink must send all the same.
+  Line line(uart_path());
+  ASSERT_TRUE(line.open()) << uart_path();
+  ASSERT_TRUE(line.loop_back());
+  ASSERT_TRUE(line.hold());
+  ASSERT_TRUE(line.set_input_flow_control());
+  SerialHapticSink sink(config_, 16);
+  sink.start();
+  ASSERT_TRUE(sink.connected());
+  const termios after = line.settings();
+  EXPECT_EQ(after.c_cflag & CRTSCTS, 0u);
+  EXPECT_EQ(after.c_iflag & IXOFF, 0u);
+  ASSERT_TRUE(sink.send(command(7)));
+  Wire wire;
+  EXPECT_TRUE(eventually([&] {
+    wire.read(line);
+    return wire.ends_with(7);
+  })) << "the frame never left: "
+      << line.unsent() << " bytes wait in the driver";
+  sink.stop();
+  wire.expect_whole_and_in_order();
 }
 
 TEST_F(Uart, TheSinkQueuesAtMostAFrameBehindAStalledLineAndSendsTheNewestWhenItMoves) {

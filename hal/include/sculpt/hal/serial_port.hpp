@@ -25,7 +25,8 @@ struct IoResult {
 };
 
 /// RAII owner of a serial file descriptor: opened O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC,
-/// termios raw (cfmakeraw, CLOCAL | CREAD, VMIN = 0, VTIME = 0) at a standard baud rate.
+/// termios raw (cfmakeraw, CLOCAL | CREAD, VMIN = 0, VTIME = 0; no flow control, one stop bit,
+/// whatever an earlier program left set) at a standard baud rate.
 /// Move-only. Not thread-safe, except that read and write may run on different threads.
 class SerialPort {
  public:
