@@ -57,8 +57,9 @@ void SerialGloveSource::start() {
   ever_connected_ = false;
   state_.store(SourceState::kConnecting, std::memory_order_release);
   // One attempt here, so a glove that is already plugged in is connected when start() returns.
-  // A rate the device refuses is the configuration's error, which retrying cannot mend: it
-  // stops the start (SerialPort::RateRefused, naming the device and both rates).
+  // A rate the device refuses, or another reader holding it, stops the start
+  // (SerialPort::RateRefused, SerialPort::InUse: the message names the device); later attempts
+  // keep trying, the message in last_error().
   try {
     connect();
   } catch (...) {
@@ -122,7 +123,9 @@ bool SerialGloveSource::try_connect() noexcept {
 bool SerialGloveSource::connect() {
   {
     std::string error;
-    if (!port_.try_open(config_.device, config_.baud, error)) {
+    // The reader takes the device's lock: a second station (or any program locking it) on the
+    // same glove would split its bytes with this one.
+    if (!port_.try_open(config_.device, config_.baud, error, /*exclusive=*/true)) {
       const std::lock_guard lock(error_mutex_);
       last_error_ = std::move(error);
       return false;

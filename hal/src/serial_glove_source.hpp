@@ -38,7 +38,8 @@ class SerialGloveSource final : public GloveSource {
   /// failed: the state is kConnected or kConnecting. A glove plugged in later is picked up.
   /// @throw std::runtime_error when already started, when the path exists but is not a
   ///        terminal, or when the thread cannot be created; SerialPort::RateRefused when the
-  ///        device runs the line at another rate than config.baud
+  ///        device runs the line at another rate than config.baud; SerialPort::InUse when
+  ///        another reader holds the device's lock (this source takes it while connected)
   void start() override;
   /// Stops the I/O thread (promptly: it is woken, not waited out) and closes the device.
   void stop() override;

@@ -4,6 +4,7 @@
 #include <string>
 #include <cmath>
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
@@ -82,13 +83,24 @@ void SerialPort::open(const std::string& path, int baud) {
   if (!try_open(path, baud, error)) throw std::runtime_error(error);
 }
 
-bool SerialPort::try_open(const std::string& path, int baud, std::string& error) {
+bool SerialPort::try_open(const std::string& path, int baud, std::string& error, bool exclusive) {
   const speed_t speed = baud_code(baud);
   close();
   path_ = path;
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
     error = os_error(path, "open", errno);
+    return false;
+  }
+  if (exclusive && ::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int err = errno;
+    ::close(fd);
+    if (err == EWOULDBLOCK) {
+      throw InUse("serial " + path +
+                  ": another program has it open for reading (it holds the device's lock): two readers "
+                  "of one line would each get part of the glove's bytes");
+    }
+    error = os_error(path, "flock", err);
     return false;
   }
   termios tio{};

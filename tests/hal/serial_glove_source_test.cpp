@@ -3,6 +3,7 @@
 // closing the pty and re-pointing the link. Also the sequence tracker it counts gaps with.
 
 #include "serial_glove_source.hpp"
+#include "serial_haptic_sink.hpp"
 
 #include <gtest/gtest.h>
 #include <pty.h>
@@ -198,6 +199,38 @@ TEST(SerialGloveSource, StartRefusesAPathThatIsNotADevice) {
         << e.what();
   }
   EXPECT_EQ(source.state(), SourceState::kStopped);
+}
+
+TEST(SerialGloveSource, ASecondReaderOfTheSameDeviceIsRefusedNamingIt) {
+  // Two stations on one glove would each read part of its bytes (both then count CRC errors
+  // and drop samples, and neither says why): the reader holds the device's lock, as pyserial's
+  // exclusive mode takes it, and a second reader's start() stops naming the device. The haptic
+  // sink, which writes on its own descriptor beside the source, takes no lock.
+  Pty pty;
+  SerialGloveSource first(config_for(pty.slave_path()), 16);
+  first.start();
+  ASSERT_EQ(first.state(), SourceState::kConnected);
+  SerialGloveSource second(config_for(pty.slave_path()), 16);
+  try {
+    second.start();
+    FAIL() << "a second reader started on " << pty.slave_path();
+  } catch (const SerialPort::InUse& e) {
+    EXPECT_NE(std::string(e.what()).find("serial " + pty.slave_path() + ": another program has it open"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(second.state(), SourceState::kStopped);
+  SerialHapticSink sink(config_for(pty.slave_path()), 16);
+  sink.start();
+  EXPECT_TRUE(sink.connected());
+  sink.stop();
+  // The lock goes with the first reader's descriptor: the second starts once it has stopped, and
+  // reads the glove.
+  first.stop();
+  second.start();
+  EXPECT_EQ(second.state(), SourceState::kConnected);
+  pty.write(frame(sample(0, 1)));
+  EXPECT_EQ(receive(second, 1).size(), 1u);
 }
 
 // ---- traffic ---------------------------------------------------------------------------------

@@ -54,12 +54,21 @@ class SerialPort {
     using std::runtime_error::runtime_error;
   };
 
+  /// With `exclusive`, another program holds the device's exclusive lock (flock, as pyserial's
+  /// exclusive mode takes it): two readers of one line would each get part of its bytes.
+  class InUse : public std::runtime_error {
+   public:
+    using std::runtime_error::runtime_error;
+  };
+
   /// Like open(), but reports an OS failure by returning false and leaving the message in
-  /// `error` (for reconnect loops, where a missing device is the normal case).
+  /// `error` (for reconnect loops, where a missing device is the normal case). `exclusive`:
+  /// take the device's exclusive lock (flock, not blocking), held until close().
   /// @throw std::invalid_argument when `baud` is not a standard rate
   /// @throw RateRefused "serial <path>: the driver runs the line at 9600 baud, not the 921600
   ///        baud asked: ..." (the device is left closed)
-  bool try_open(const std::string& path, int baud, std::string& error);
+  /// @throw InUse "serial <path>: another program has it open ..." (left closed)
+  bool try_open(const std::string& path, int baud, std::string& error, bool exclusive = false);
 
   /// Closes the device. Idempotent.
   void close() noexcept;
