@@ -17,6 +17,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstddef>
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -116,6 +118,21 @@ class Line {
   int unsent() const {
     int pending = -1;
     return ::ioctl(fd_, TIOCOUTQ, &pending) == 0 ? pending : -1;
+  }
+
+  // Writes every byte, waiting for room in the driver as a glove's UART would.
+  bool write_all(std::span<const std::uint8_t> bytes) const {
+    for (std::size_t done = 0; done < bytes.size();) {
+      const ssize_t n = ::write(fd_, bytes.data() + done, bytes.size() - done);
+      if (n > 0) {
+        done += static_cast<std::size_t>(n);
+        continue;
+      }
+      if (n < 0 && errno != EAGAIN) return false;
+      pollfd out{fd_, POLLOUT, 0};
+      if (::poll(&out, 1, 1000) <= 0) return false;
+    }
+    return true;
   }
 
   // Appends what the receiver has to `bytes`; returns how many.
@@ -292,6 +309,58 @@ TEST_F(Uart, FlowControlAnEarlierProgramLeftOnDoesNotStallTheSink) {
       << line.unsent() << " bytes wait in the driver";
   sink.stop();
   wire.expect_whole_and_in_order();
+}
+
+TEST_F(Uart, TheSourceReadsEveryFrameThroughTheDriver) {
+  // The glove's side of the line is the test's descriptor: what it writes loops back into the
+  // UART's receiver (a 16-byte FIFO the driver empties on each interrupt), where the source
+  // reads. Two hands of 250-byte positions frames, 1,000 of them in bursts of ten.
+  SerialGloveSource source(config_, 4096);
+  source.start();
+  ASSERT_EQ(source.state(), SourceState::kConnected);
+  Line line(uart_path());
+  ASSERT_TRUE(line.open()) << uart_path();
+  ASSERT_TRUE(line.loop_back());  // after the source's own settings of the same terminal
+  constexpr std::uint32_t kFrames = 1000;
+  std::vector<GloveSample> received;
+  std::array<GloveSample, 64> batch{};
+  const auto take = [&] {
+    for (std::size_t n = source.poll(batch); n > 0; n = source.poll(batch)) {
+      received.insert(received.end(), batch.begin(), batch.begin() + static_cast<std::ptrdiff_t>(n));
+    }
+  };
+  std::array<std::uint8_t, kMaxFrameBytes> wire{};
+  for (std::uint32_t i = 0; i < kFrames; ++i) {
+    GloveSample s;
+    s.hand = static_cast<std::uint8_t>(i % 2);
+    s.kind = SampleKind::kPositions;
+    s.sequence = i / 2;
+    s.device_time_us = 1000ull * i;
+    for (std::size_t j = 0; j < kJointPoints; ++j) s.joints[j] = {0.01f * static_cast<float>(j), 1e-3f * i, -0.5f};
+    const std::size_t n = encode_sample_frame(s, wire);
+    ASSERT_TRUE(line.write_all(std::span<const std::uint8_t>(wire.data(), n))) << "frame " << i;
+    if (i % 10 == 9) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      take();
+    }
+  }
+  ASSERT_TRUE(eventually([&] {
+    take();
+    return received.size() >= kFrames;
+  })) << received.size()
+      << " of " << kFrames << " samples";
+  source.stop();
+  const SourceCounters c = source.counters();
+  std::printf("[ uart ] source: %llu samples, %llu CRC errors, %llu framing errors, %llu gaps\n",
+              static_cast<unsigned long long>(c.samples), static_cast<unsigned long long>(c.crc_errors),
+              static_cast<unsigned long long>(c.framing_errors), static_cast<unsigned long long>(c.sequence_gaps));
+  EXPECT_EQ(c.crc_errors + c.framing_errors + c.sequence_gaps + c.overflows, 0u);
+  ASSERT_EQ(received.size(), kFrames);
+  for (std::uint32_t i = 0; i < kFrames; ++i) {
+    EXPECT_EQ(received[i].hand, i % 2) << i;
+    EXPECT_EQ(received[i].sequence, i / 2) << i;
+    EXPECT_EQ(received[i].joints[kJointPoints - 1][1], 1e-3f * i) << i;
+  }
 }
 
 TEST_F(Uart, TheSinkQueuesAtMostAFrameBehindAStalledLineAndSendsTheNewestWhenItMoves) {
