@@ -52,10 +52,17 @@ case "$SUITE" in
     PROGRAMS=()
     ;;
   uart) # the 8250 driver is built into Debian's kernel (its console is one)
-    MODULES=()
+    MODULES=(xhci-pci ftdi_sio)
     TARGETS=(guest_uart_tests)
     PROGRAMS=()
-    DEVICES=(-serial mon:stdio -serial null) # ttyS0 the console, as -nographic alone gives it
+    # ttyS0 the console (as -nographic alone gives it); ttyS1 on nothing (the tests loop it
+    # back); ttyS2 wired to an emulated FTDI USB-serial adapter (ttyUSB0) through a socket
+    # whose two ends are both qemu's: a cable between a UART and a USB-serial adapter.
+    LINK_SOCKET=$CACHE/uart-link.sock
+    rm -f "$LINK_SOCKET"
+    DEVICES=(-serial mon:stdio -serial null
+      -chardev "socket,id=link,path=$LINK_SOCKET,server=on,wait=off" -serial chardev:link
+      -chardev "socket,id=adapter,path=$LINK_SOCKET" -device qemu-xhci -device usb-serial,chardev=adapter)
     ;;
   *) fail "unknown suite '$SUITE' (can, usb, uart)" ;;
 esac

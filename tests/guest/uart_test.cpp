@@ -446,5 +446,122 @@ TEST_F(Uart, OnALineThatMovesInBurstsTheDriverNeverHoldsMoreThanTwoFrames) {
   wire.expect_whole_and_in_order();
 }
 
+// ---- an FTDI USB-serial adapter, cabled to a UART ------------------------------------------------
+// The backends on ttyUSB0 (qemu's emulated FTDI adapter, the kernel's ftdi_sio driver), the
+// glove's end on ttyS2, the UART the adapter's cable goes to. Unplugging is the adapter's USB
+// device deauthorised (the kernel unbinds it: the tty is hung up and its node removed, as when
+// the cable is pulled) and plugging in is it authorised again (enumerated anew).
+
+std::string env_or_empty(const char* name) {
+  const char* value = std::getenv(name);
+  return value != nullptr ? value : "";
+}
+
+bool plug(bool in) {
+  std::FILE* f = std::fopen((env_or_empty("GLOVE_ADAPTER_USB") + "/authorized").c_str(), "w");
+  if (f == nullptr) return false;
+  const bool written = std::fputs(in ? "1\n" : "0\n", f) >= 0;
+  return std::fclose(f) == 0 && written;
+}
+
+class Adapter : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (env_or_empty("GLOVE_ADAPTER").empty()) GTEST_SKIP() << "no USB-serial adapter here (GLOVE_ADAPTER unset)";
+    config_.device = env_or_empty("GLOVE_ADAPTER");
+    config_.reconnect_interval_ms = 20.0;
+    glove_ = ::open(env_or_empty("GLOVE_ADAPTER_PEER").c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+    ASSERT_GE(glove_, 0) << env_or_empty("GLOVE_ADAPTER_PEER");
+    termios tio{};
+    ASSERT_EQ(::tcgetattr(glove_, &tio), 0);
+    ::cfmakeraw(&tio);
+    tio.c_cflag |= CLOCAL | CREAD;
+    ::cfsetspeed(&tio, B115200);
+    ASSERT_EQ(::tcsetattr(glove_, TCSANOW, &tio), 0);
+  }
+  void TearDown() override {
+    plug(true);
+    if (glove_ >= 0) ::close(glove_);
+  }
+
+  // The glove sends samples n .. n + count - 1 of hand 0.
+  void send_samples(std::uint32_t n, std::uint32_t count) {
+    std::array<std::uint8_t, kMaxFrameBytes> wire{};
+    for (std::uint32_t i = n; i < n + count; ++i) {
+      GloveSample s;
+      s.hand = 0;
+      s.kind = SampleKind::kPositions;
+      s.sequence = i;
+      s.device_time_us = 1000ull * i;
+      const std::size_t size = encode_sample_frame(s, wire);
+      for (std::size_t done = 0; done < size;) {
+        const ssize_t k = ::write(glove_, wire.data() + done, size - done);
+        if (k > 0) done += static_cast<std::size_t>(k);
+        if (k < 0) {
+          pollfd out{glove_, POLLOUT, 0};
+          ASSERT_GT(::poll(&out, 1, 1000), 0) << "the glove's UART would not take frame " << i;
+        }
+      }
+    }
+  }
+
+  SerialConfig config_;
+  int glove_ = -1;
+};
+
+TEST_F(Adapter, TheSourceAndSinkComeBackAfterTheAdapterIsUnpluggedAndPluggedIn) {
+  SerialGloveSource source(config_, 1024);
+  SerialHapticSink sink(config_, 64);
+  source.start();
+  sink.start();
+  ASSERT_EQ(source.state(), SourceState::kConnected);
+  ASSERT_TRUE(sink.connected());
+  std::array<GloveSample, 64> batch{};
+  std::uint64_t received = 0;
+  const auto take = [&] {
+    for (std::size_t n = source.poll(batch); n > 0; n = source.poll(batch)) received += n;
+    return received;
+  };
+  Line glove_end(env_or_empty("GLOVE_ADAPTER_PEER"));
+  Wire haptics;
+  // Before: samples in, a haptic frame out.
+  ASSERT_NO_FATAL_FAILURE(send_samples(0, 20));
+  ASSERT_TRUE(eventually([&] { return take() == 20; })) << take() << " of 20 samples";
+  const auto reaches_glove = [&](std::uint32_t tick) {
+    return sink.send(command(tick)) && eventually([&] {
+             haptics.read(glove_end);
+             return haptics.ends_with(tick);
+           });
+  };
+  ASSERT_TRUE(reaches_glove(1)) << "no haptic frame reached the glove";
+
+  ASSERT_TRUE(plug(false)) << env_or_empty("GLOVE_ADAPTER_USB");
+  EXPECT_TRUE(eventually([&] { return source.state() == SourceState::kDisconnected; })) << "the source did not notice";
+  EXPECT_TRUE(eventually([&] { return !sink.connected(); })) << "the sink did not notice";
+  EXPECT_EQ(source.counters().disconnects, 1u);
+  sink.send(command(2));  // nowhere to go: dropped, never sent late
+  EXPECT_TRUE(eventually([&] { return sink.dropped() >= 1; }));
+
+  ASSERT_TRUE(plug(true));
+  ASSERT_TRUE(eventually([&] { return source.state() == SourceState::kConnected && sink.connected(); }, 20))
+      << "the adapter came back but the backends did not reconnect";
+  EXPECT_EQ(source.counters().reconnects, 1u);
+  ASSERT_NO_FATAL_FAILURE(send_samples(20, 20));
+  EXPECT_TRUE(eventually([&] { return take() == 40; })) << take() << " of 40 samples";
+  EXPECT_TRUE(reaches_glove(3)) << "no haptic frame reached the glove after the reconnect";
+  source.stop();
+  sink.stop();
+  std::printf(
+      "[ adapter ] unplugged and plugged in: %llu samples, %llu disconnect, %llu reconnect; sink %llu "
+      "frames, %llu dropped\n",
+      static_cast<unsigned long long>(received), static_cast<unsigned long long>(source.counters().disconnects),
+      static_cast<unsigned long long>(source.counters().reconnects),
+      static_cast<unsigned long long>(sink.frames_written()), static_cast<unsigned long long>(sink.dropped()));
+  const SourceCounters c = source.counters();
+  EXPECT_EQ(c.crc_errors + c.framing_errors, 0u);
+  EXPECT_EQ(haptics.ticks, (std::vector<std::uint32_t>{1, 3}));
+  haptics.expect_whole_and_in_order();
+}
+
 }  // namespace
 }  // namespace sculpt::hal
