@@ -1,13 +1,15 @@
-// The serial haptic sink on a UART: the Linux 8250 driver and its serial core on qemu's 16550A,
-// where a pty has no driver buffer at all (TIOCOUTQ always 0 there, so the host tests give the
-// sink a stand-in for it). tests/guest/uart.sh names the UART in GLOVE_UART.
+// The serial backends on real serial drivers, where the host tests have only ptys: the Linux
+// 8250 driver and its serial core on qemu's 16550A (a pty keeps no count of unsent bytes, so
+// the host tests give the sink a stand-in for TIOCOUTQ; it ignores flow control; it makes any
+// rate), and an FTDI USB-serial adapter (ftdi_sio) cabled to another UART, unplugged and
+// plugged in. tests/guest/uart.sh names the devices in GLOVE_UART and GLOVE_ADAPTER*.
 //
-// The line is stalled and released from the test's own descriptor on the same UART: in the
-// UART's loopback mode (TIOCM_LOOP) its CTS input is its own RTS output, so with RTS low and
-// CTS flow control on (CRTSCTS) the driver holds what is written as behind a glove that is not
-// reading; with flow control off the bytes go out at once and come back in on the receiver,
-// where the test decodes the frames that reached the wire. The sink never reads; the test never
-// writes. Skips, saying so, anywhere else.
+// On the UART the test's own descriptor plays the glove: in the UART's loopback mode
+// (TIOCM_LOOP) its CTS input is its own RTS output, so with RTS low and CTS flow control on
+// (CRTSCTS) the driver holds what is written, as behind a glove that is not reading; with flow
+// control off the bytes go out at once and come back in on the receiver, where the test decodes
+// the frames that reached the wire (or the source reads what the test wrote). Skips, saying
+// so, anywhere else.
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -17,11 +19,12 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstddef>
 #include <array>
+#include <cerrno>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <memory>
@@ -80,14 +83,18 @@ class Line {
 
   bool open() const { return fd_ >= 0; }
 
-  // Raw (no echo: every byte received would otherwise go out again), loopback, RTS low: the
-  // line is then held whenever CTS flow control is on.
-  bool loop_back() {
+  // Raw: no echo (every byte received would otherwise go out again), no line editing.
+  bool make_raw(speed_t speed = B115200) {
     termios tio{};
     if (::tcgetattr(fd_, &tio) != 0) return false;
     ::cfmakeraw(&tio);
     tio.c_cflag |= CLOCAL | CREAD;
-    if (::tcsetattr(fd_, TCSANOW, &tio) != 0) return false;
+    ::cfsetspeed(&tio, speed);
+    return ::tcsetattr(fd_, TCSANOW, &tio) == 0;
+  }
+  // Raw, loopback, RTS low: the line is then held whenever CTS flow control is on.
+  bool loop_back() {
+    if (!make_raw()) return false;
     int loop = kLoopback, rts = TIOCM_RTS;
     return ::ioctl(fd_, TIOCMBIS, &loop) == 0 && ::ioctl(fd_, TIOCMBIC, &rts) == 0;
   }
@@ -470,19 +477,11 @@ class Adapter : public ::testing::Test {
     if (env_or_empty("GLOVE_ADAPTER").empty()) GTEST_SKIP() << "no USB-serial adapter here (GLOVE_ADAPTER unset)";
     config_.device = env_or_empty("GLOVE_ADAPTER");
     config_.reconnect_interval_ms = 20.0;
-    glove_ = ::open(env_or_empty("GLOVE_ADAPTER_PEER").c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-    ASSERT_GE(glove_, 0) << env_or_empty("GLOVE_ADAPTER_PEER");
-    termios tio{};
-    ASSERT_EQ(::tcgetattr(glove_, &tio), 0);
-    ::cfmakeraw(&tio);
-    tio.c_cflag |= CLOCAL | CREAD;
-    ::cfsetspeed(&tio, B115200);
-    ASSERT_EQ(::tcsetattr(glove_, TCSANOW, &tio), 0);
+    glove_ = std::make_unique<Line>(env_or_empty("GLOVE_ADAPTER_PEER"));
+    ASSERT_TRUE(glove_->open()) << env_or_empty("GLOVE_ADAPTER_PEER");
+    ASSERT_TRUE(glove_->make_raw());
   }
-  void TearDown() override {
-    plug(true);
-    if (glove_ >= 0) ::close(glove_);
-  }
+  void TearDown() override { plug(true); }
 
   // The glove sends samples n .. n + count - 1 of hand 0.
   void send_samples(std::uint32_t n, std::uint32_t count) {
@@ -494,19 +493,12 @@ class Adapter : public ::testing::Test {
       s.sequence = i;
       s.device_time_us = 1000ull * i;
       const std::size_t size = encode_sample_frame(s, wire);
-      for (std::size_t done = 0; done < size;) {
-        const ssize_t k = ::write(glove_, wire.data() + done, size - done);
-        if (k > 0) done += static_cast<std::size_t>(k);
-        if (k < 0) {
-          pollfd out{glove_, POLLOUT, 0};
-          ASSERT_GT(::poll(&out, 1, 1000), 0) << "the glove's UART would not take frame " << i;
-        }
-      }
+      ASSERT_TRUE(glove_->write_all(std::span<const std::uint8_t>(wire.data(), size))) << "frame " << i;
     }
   }
 
   SerialConfig config_;
-  int glove_ = -1;
+  std::unique_ptr<Line> glove_;  // the UART at the cable's other end
 };
 
 TEST_F(Adapter, TheSourceAndSinkComeBackAfterTheAdapterIsUnpluggedAndPluggedIn) {
@@ -522,7 +514,7 @@ TEST_F(Adapter, TheSourceAndSinkComeBackAfterTheAdapterIsUnpluggedAndPluggedIn) 
     for (std::size_t n = source.poll(batch); n > 0; n = source.poll(batch)) received += n;
     return received;
   };
-  Line glove_end(env_or_empty("GLOVE_ADAPTER_PEER"));
+  Line& glove_end = *glove_;
   Wire haptics;
   // Before: samples in, a haptic frame out.
   ASSERT_NO_FATAL_FAILURE(send_samples(0, 20));
