@@ -36,6 +36,7 @@
 #include "sculpt/hal/frame_codec.hpp"
 #include "serial_glove_source.hpp"
 #include "serial_haptic_sink.hpp"
+#include "support/eventually.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -49,13 +50,9 @@ std::string uart_path() {
   return path != nullptr ? path : "";
 }
 
-bool eventually(const std::function<bool()>& done, int seconds = 10) {
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > give_up) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return true;
+// A guest under software emulation is slow: ten seconds unless told.
+bool eventually(const std::function<bool()>& done, std::chrono::seconds timeout = std::chrono::seconds(10)) {
+  return test::eventually(done, timeout);
 }
 
 HapticCommand command(std::uint32_t tick) {
@@ -65,6 +62,17 @@ HapticCommand command(std::uint32_t tick) {
   c.active_mask = 0x1F;
   for (std::size_t f = 0; f < kFingers; ++f) c.force[f] = {0.25f * static_cast<float>(f), -1.0f, 1e-3f * tick};
   return c;
+}
+
+// Frame i of a glove sending positions: `hand`'s sample `sequence`, its last joint's y i / 1000.
+GloveSample positions(std::uint8_t hand, std::uint32_t sequence, std::uint32_t i) {
+  GloveSample s;
+  s.hand = hand;
+  s.kind = SampleKind::kPositions;
+  s.sequence = sequence;
+  s.device_time_us = 1000ull * i;
+  for (std::size_t j = 0; j < kJointPoints; ++j) s.joints[j] = {0.01f * static_cast<float>(j), 1e-3f * i, -0.5f};
+  return s;
 }
 
 // The test's descriptor on the UART: stalls and releases its line and reads what it sent.
@@ -140,6 +148,12 @@ class Line {
       if (::poll(&out, 1, 1000) <= 0) return false;
     }
     return true;
+  }
+
+  // Writes the sample's frame, whole.
+  bool write_sample(const GloveSample& sample) const {
+    std::array<std::uint8_t, kMaxFrameBytes> wire{};
+    return write_all(std::span<const std::uint8_t>(wire.data(), encode_sample_frame(sample, wire)));
   }
 
   // Appends what the receiver has to `bytes`; returns how many.
@@ -336,16 +350,8 @@ TEST_F(Uart, TheSourceReadsEveryFrameThroughTheDriver) {
       received.insert(received.end(), batch.begin(), batch.begin() + static_cast<std::ptrdiff_t>(n));
     }
   };
-  std::array<std::uint8_t, kMaxFrameBytes> wire{};
   for (std::uint32_t i = 0; i < kFrames; ++i) {
-    GloveSample s;
-    s.hand = static_cast<std::uint8_t>(i % 2);
-    s.kind = SampleKind::kPositions;
-    s.sequence = i / 2;
-    s.device_time_us = 1000ull * i;
-    for (std::size_t j = 0; j < kJointPoints; ++j) s.joints[j] = {0.01f * static_cast<float>(j), 1e-3f * i, -0.5f};
-    const std::size_t n = encode_sample_frame(s, wire);
-    ASSERT_TRUE(line.write_all(std::span<const std::uint8_t>(wire.data(), n))) << "frame " << i;
+    ASSERT_TRUE(line.write_sample(positions(static_cast<std::uint8_t>(i % 2), i / 2, i))) << "frame " << i;
     if (i % 10 == 9) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
       take();
@@ -485,16 +491,8 @@ class Adapter : public ::testing::Test {
 
   // The glove sends samples n .. n + count - 1 of hand 0.
   void send_samples(std::uint32_t n, std::uint32_t count) {
-    std::array<std::uint8_t, kMaxFrameBytes> wire{};
-    for (std::uint32_t i = n; i < n + count; ++i) {
-      GloveSample s;
-      s.hand = 0;
-      s.kind = SampleKind::kPositions;
-      s.sequence = i;
-      s.device_time_us = 1000ull * i;
-      const std::size_t size = encode_sample_frame(s, wire);
-      ASSERT_TRUE(glove_->write_all(std::span<const std::uint8_t>(wire.data(), size))) << "frame " << i;
-    }
+    for (std::uint32_t i = n; i < n + count; ++i)
+      ASSERT_TRUE(glove_->write_sample(positions(0, i, i))) << "frame " << i;
   }
 
   SerialConfig config_;
@@ -535,7 +533,8 @@ TEST_F(Adapter, TheSourceAndSinkComeBackAfterTheAdapterIsUnpluggedAndPluggedIn) 
   EXPECT_TRUE(eventually([&] { return sink.dropped() >= 1; }));
 
   ASSERT_TRUE(plug(true));
-  ASSERT_TRUE(eventually([&] { return source.state() == SourceState::kConnected && sink.connected(); }, 20))
+  ASSERT_TRUE(eventually([&] { return source.state() == SourceState::kConnected && sink.connected(); },
+                         std::chrono::seconds(20)))
       << "the adapter came back but the backends did not reconnect";
   EXPECT_EQ(source.counters().reconnects, 1u);
   ASSERT_NO_FATAL_FAILURE(send_samples(20, 20));

@@ -23,6 +23,7 @@
 
 #include "usb_glove_source.hpp"
 #include "usb_haptic_sink.hpp"
+#include "support/eventually.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -48,13 +49,9 @@ std::string bound_udc() {
   return u != nullptr ? u : "dummy_udc.0";
 }
 
-bool eventually(const std::function<bool()>& done, int seconds = 10) {
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > give_up) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return true;
+// A guest under software emulation is slow: ten seconds unless told.
+bool eventually(const std::function<bool()>& done, std::chrono::seconds timeout = std::chrono::seconds(10)) {
+  return test::eventually(done, timeout, std::chrono::milliseconds(10));
 }
 
 std::string haptic_log() {

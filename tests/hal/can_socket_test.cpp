@@ -27,6 +27,7 @@
 #include "sculpt/hal/can_frame_codec.hpp"
 #include "can_glove_source.hpp"
 #include "can_haptic_sink.hpp"
+#include "support/eventually.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -218,14 +219,7 @@ class CanSocketVcan : public ::testing::TestWithParam<bool> {
 };
 
 // Polls `done` every 5 ms for up to 5 s.
-bool eventually(const std::function<bool()>& done) {
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > give_up) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return true;
-}
+using test::eventually;
 
 // What a source has handed out, polled for until there are `want` samples.
 struct Received {

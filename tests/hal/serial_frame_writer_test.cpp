@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "pty_pair.hpp"
+#include "support/eventually.hpp"
 #include "serial_glove_source.hpp"
 #include "sculpt/hal/frame_codec.hpp"
 #include "serial_haptic_sink.hpp"
@@ -72,14 +73,7 @@ class Relay {
   std::thread thread_;
 };
 
-bool wait_for(const std::function<bool()>& done, std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return done();
-}
+using test::eventually;
 
 SerialConfig config_for(const std::string& device) {
   SerialConfig c;
@@ -142,7 +136,7 @@ TEST(SerialFrameWriter, EndToEndThroughTwoPtyPairsAndARelay) {
 
   constexpr std::uint32_t kSamples = 300;
   for (std::uint32_t i = 0; i < kSamples; ++i) ASSERT_TRUE(writer.write_sample(sample(i))) << i;
-  ASSERT_TRUE(wait_for([&] { return source.counters().samples == kSamples; }))
+  ASSERT_TRUE(eventually([&] { return source.counters().samples == kSamples; }))
       << source.counters().samples << " of " << kSamples;
   const SourceCounters c = source.counters();
   EXPECT_EQ(c.crc_errors + c.framing_errors + c.sequence_gaps + c.overflows, 0u);
@@ -152,9 +146,9 @@ TEST(SerialFrameWriter, EndToEndThroughTwoPtyPairsAndARelay) {
   constexpr std::uint32_t kCommands = 20;
   for (std::uint32_t t = 0; t < kCommands; ++t) {
     ASSERT_TRUE(sink.send(command(t)));
-    ASSERT_TRUE(wait_for([&] { return sink.frames_written() == t + 1; })) << t;
+    ASSERT_TRUE(eventually([&] { return sink.frames_written() == t + 1; })) << t;
   }
-  ASSERT_TRUE(wait_for([&] { return writer.haptic_frames_received() == kCommands; }))
+  ASSERT_TRUE(eventually([&] { return writer.haptic_frames_received() == kCommands; }))
       << writer.haptic_frames_received();
   ASSERT_TRUE(writer.last_haptic().has_value());
   const HapticCommand& last = *writer.last_haptic();
@@ -185,7 +179,7 @@ TEST(SerialFrameWriter, SamplesArriveIntactAndInOrder) {
 
   std::vector<GloveSample> got;
   std::vector<GloveSample> buffer(32);
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     const std::size_t n = source.poll(buffer);
     got.insert(got.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(n));
     return got.size() >= kSamples;
@@ -219,7 +213,7 @@ TEST(SerialFrameWriter, ReportsADeviceThatIsGoneAndReopensIt) {
   ASSERT_TRUE(writer.write_sample(sample(0)));
   first->close();
   bool ok = true;
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     ok = writer.write_sample(sample(1));
     return !ok;
   }));
@@ -253,20 +247,20 @@ TEST(SerialHapticSink, DropsCommandsWhileTheDeviceIsAbsentAndWritesOnceItIsBack)
   EXPECT_FALSE(sink.connected());
   for (std::uint32_t t = 0; t < 5; ++t) EXPECT_TRUE(sink.send(command(t)));
   // A burst reaching the writer at once is coalesced to its newest command, which is dropped.
-  ASSERT_TRUE(wait_for([&] { return sink.dropped() + sink.superseded() == 5; })) << sink.dropped();
+  ASSERT_TRUE(eventually([&] { return sink.dropped() + sink.superseded() == 5; })) << sink.dropped();
   const std::uint64_t dropped = sink.dropped();
   EXPECT_GE(dropped, 1u);
 
   Pty pty;
   std::filesystem::create_symlink(pty.slave_path(), link);
-  ASSERT_TRUE(wait_for([&] { return sink.connected(); }));
+  ASSERT_TRUE(eventually([&] { return sink.connected(); }));
   ASSERT_TRUE(sink.send(command(99)));
-  ASSERT_TRUE(wait_for([&] { return sink.frames_written() == 1; }));
+  ASSERT_TRUE(eventually([&] { return sink.frames_written() == 1; }));
 
   // The frame on the wire is a haptic frame with the sink's sequence and the command.
   FrameDecoder decoder;
   std::vector<DecodedFrame> frames;
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     pollfd in{pty.master(), POLLIN, 0};
     if (::poll(&in, 1, 0) == 1) {
       std::uint8_t buffer[512];
@@ -333,7 +327,7 @@ TEST(SerialHapticSink, ASlowLineCarriesTheNewestCommandAndNeverABacklog) {
   };
   // The line drains; one more command after the backlog must be the last to arrive. (Up to
   // 20 s: a loaded CI machine once took longer than 5 s here.)
-  ASSERT_TRUE(wait_for(
+  ASSERT_TRUE(eventually(
       [&] {
         read_line();
         return sink.frames_written() + sink.dropped() + sink.superseded() == accepted;
@@ -342,7 +336,7 @@ TEST(SerialHapticSink, ASlowLineCarriesTheNewestCommandAndNeverABacklog) {
       << sink.frames_written() << " written + " << sink.dropped() << " dropped + " << sink.superseded()
       << " superseded of " << accepted << " accepted";
   ASSERT_TRUE(sink.send(command(kCommands)));
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     read_line();
     return !ticks.empty() && ticks.back() == kCommands;
   })) << "the newest command never arrived";

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "pty_pair.hpp"
+#include "support/eventually.hpp"
 #include "sculpt/hal/frame_codec.hpp"
 #include "sequence_tracker.hpp"
 
@@ -59,20 +60,13 @@ class LinkDir {
 
 // Bounded wait: true as soon as `done` holds, false after `timeout`. The machine is shared and
 // slow at times, so deadlines are generous and only catch outright failure.
-bool wait_for(const std::function<bool()>& done, std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return done();
-}
+using test::eventually;
 
 // Polls the source until `count` samples have arrived or the deadline passes.
 std::vector<GloveSample> receive(SerialGloveSource& source, std::size_t count) {
   std::vector<GloveSample> got;
   std::vector<GloveSample> buffer(64);
-  wait_for([&] {
+  eventually([&] {
     const std::size_t n = source.poll(buffer);
     got.insert(got.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(n));
     return got.size() >= count;
@@ -323,7 +317,7 @@ TEST(SerialGloveSource, CountsOverflowsWhenTheLoopDoesNotPoll) {
   SerialGloveSource source(config_for(pty.slave_path()), 2);
   source.start();
   for (std::uint32_t i = 0; i < 12; ++i) pty.write(frame(sample(0, i)));
-  ASSERT_TRUE(wait_for([&] {
+  ASSERT_TRUE(eventually([&] {
     const SourceCounters c = source.counters();
     return c.samples + c.overflows == 12;
   }));
@@ -348,7 +342,7 @@ TEST(SerialGloveSource, PicksUpAGlovePluggedInAfterStart) {
 
   Pty pty;
   dir.point_at(pty.slave_path());
-  ASSERT_TRUE(wait_for([&] { return source.state() == SourceState::kConnected; }));
+  ASSERT_TRUE(eventually([&] { return source.state() == SourceState::kConnected; }));
   pty.write(frame(sample(1, 9)));
   const auto got = receive(source, 1);
   ASSERT_EQ(got.size(), 1u);
@@ -372,12 +366,12 @@ TEST(SerialGloveSource, ReconnectsToTheSamePathAfterTheDeviceDisappears) {
   // Unplug: the pty goes away, its /dev/pts entry with it, and the link dangles.
   first->close();
   ASSERT_TRUE(
-      wait_for([&] { return source.state() == SourceState::kDisconnected && source.counters().disconnects == 1; }));
+      eventually([&] { return source.state() == SourceState::kDisconnected && source.counters().disconnects == 1; }));
 
   // Replug: a new device node (perhaps another number) behind the same link.
   Pty second;
   dir.point_at(second.slave_path());
-  ASSERT_TRUE(wait_for([&] { return source.counters().reconnects == 1; }));
+  ASSERT_TRUE(eventually([&] { return source.counters().reconnects == 1; }));
   EXPECT_EQ(source.state(), SourceState::kConnected);
   // The glove restarted its counter: a backwards jump, not four billion lost samples.
   for (std::uint32_t i = 0; i < 3; ++i) second.write(frame(sample(0, i)));
