@@ -151,17 +151,21 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   state.counters["frames/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
-// A stroke, as the station runs one: every finger pressed half a spacing in, then slid half a
-// spacing a frame along the plane tangent at its start, a quarter of a spacing deeper each frame
-// (a twentieth, as sculpt check's slide, left half the fingers above the dent their last frame made:
-// guarded, not pressing). Each frame deforms the one before's output, from where the deformer
-// left each finger; on a curved scan some fingers leave the surface, so the row reports the
-// collisions per frame. The model is restored (untimed) every kStrokeFrames frames. The
-// single-press rows restore it before every frame, so each of their frames finds the index, the
-// region's points and the buffers out of the caches; here, as in the station, all but a
-// stroke's first frame find them where the frame before left them.
-void stroke(benchmark::State& state, const std::string& name, double region_spacings) {
-  constexpr int kStrokeFrames = 16;
+// A stroke, as the station runs one: every finger pressed half a spacing in, then slid `step`
+// spacings a frame along the plane tangent at its start, half a step deeper each frame. The
+// fast stroke (region20_stroke) slides half a spacing a frame (a twentieth, as sculpt check's
+// slide, left half the fingers above the dent their last frame made: guarded, not pressing);
+// the glide (region20_glide) a twentieth, about what the bundled scenes' fingers cover in a
+// 1 kHz tick (the dragon press: 0.04 spacings), for 64 frames. Each frame deforms the one
+// before's output, from where the deformer left each finger; on a curved scan some fingers
+// leave the surface, so the row reports the collisions per frame. The model is restored
+// (untimed) every `frames_per_stroke` frames. The single-press rows restore it before every
+// frame, so each of their frames finds the index, the region's points and the buffers out of
+// the caches; here, as in the station, all but a stroke's first frame find them where the
+// frame before left them.
+void stroke(benchmark::State& state, const std::string& name, double region_spacings, double step = 0.5,
+            int frames_per_stroke = 16) {
+  const int kStrokeFrames = frames_per_stroke;
   const PointModel* source = load(name);
   if (!source) {
     state.SkipWithError(("data/scans/" + file_of(name) + " missing: run scripts/fetch_scans.sh").c_str());
@@ -199,7 +203,7 @@ void stroke(benchmark::State& state, const std::string& name, double region_spac
       state.ResumeTiming();
     }
     for (std::size_t f = 0; f < fingers; ++f) {
-      const Vec3 target = at[f] + along[f] * (0.5 * spacing * k) - out[f] * ((0.5 + 0.25 * k) * spacing);
+      const Vec3 target = at[f] + along[f] * (step * spacing * k) - out[f] * ((0.5 + 0.5 * step * k) * spacing);
       motions[f] = ProbeMotion{accepted[f], target, earlier[f]};
     }
     const FrameReport& r = deformer.deform(motions);
@@ -449,6 +453,10 @@ void register_all() {
       if (p == Precision::kFloat) {
         RegisterBenchmark(("Scan/" + name + "/region20_stroke/" + tag).c_str(),
                           [name](benchmark::State& s) { stroke(s, name, 20.0); })
+            ->Arg(5)
+            ->Unit(ms);
+        RegisterBenchmark(("Scan/" + name + "/region20_glide/" + tag).c_str(),
+                          [name](benchmark::State& s) { stroke(s, name, 20.0, 0.05, 64); })
             ->Arg(5)
             ->Unit(ms);
         // The same frames on the scan stored in Z order (sculpt order), pressed at the same points.

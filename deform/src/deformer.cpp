@@ -127,6 +127,10 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
 
 void Deformer::rebuild_index() {
   index_.rebuild(model_);
+  // The positions may have been written from outside (sculpt report stores its exact state in
+  // the model): what was known of how far they could have moved holds no longer.
+  extent_ = largest_coordinate(model_);
+  region_.remeasure(model_);
   drift_ = 0.0;
   index_holds_base_ = false;
 }

@@ -53,6 +53,7 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
     as_found_.reserve(n);
     found_ = PointSet(n);
     band_found_ = PointSet(n);
+    balls_ = BallCache(n);
   }
   if (settings_.kind == Kind::kIndices) {
     points_ = settings_.indices;
@@ -110,6 +111,7 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
       std::any_of(contacts.begin(), contacts.end(), [&](const Vec3& c) { return farthest_point_bound(c) <= inner; });
   if (holds_model_) return;
   collect(model, index, drift, contacts, inner * inner);
+  balls_.end_frame();
   // The balls may hold every point after all (the box's corners lie beyond the model's points).
   holds_model_ = points_.size() == model.size() && border_.empty();
 }
@@ -134,7 +136,7 @@ void Region::collect(const PointModel& model, const PointIndex& index, double dr
     // Fingers apart (the common case): a point can only be deep in the ball that found it, so
     // the band is decided as each ball's points come, without a test against every contact.
     for (const Vec3& c : contacts) {
-      index.within_radius(model, c, settings_.radius, scratch_, drift, /*ascending=*/false);
+      balls_.within_radius(model, index, drift, c, settings_.radius, scratch_);
       keep_as_found();
       for (std::uint32_t i : scratch_) {
         found_.insert(i);
@@ -148,7 +150,7 @@ void Region::collect(const PointModel& model, const PointIndex& index, double dr
   // Overlapping balls: a point found twice is listed once, and it is in the band when it is
   // not deeper than the border width inside any ball.
   for (const Vec3& c : contacts) {
-    index.within_radius(model, c, settings_.radius, scratch_, drift, /*ascending=*/false);
+    balls_.within_radius(model, index, drift, c, settings_.radius, scratch_);
     keep_as_found();
     for (std::uint32_t i : scratch_) found_.insert(i);
   }

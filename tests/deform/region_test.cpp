@@ -117,13 +117,17 @@ TEST(Region, BuildsThatScanEveryPointCollectWhatTheQueriesWould) {
                                         {std::cos(a + 0.1), std::sin(a + 0.1), 0.05},
                                         {0.0, std::sin(a), -std::cos(a)}};
     // Points near the first finger sink by up to the drift from where the index has them, as
-    // a press would leave them.
+    // a press would leave them; the region is told how far any moved since its last build.
+    double moved = 0.0;
     for (std::size_t i = 0; i < model.size(); ++i) {
       const Vec3 p = original.position(i);
+      const Vec3 before = model.position(i);
       const double closeness = std::max(0.0, 1.0 - norm(p - contacts[0]) / 0.3);
       model.set_position(i, p * (1.0 - 0.9 * drift * closeness));
       ASSERT_LE(norm(model.position(i) - p), drift);
+      moved = std::max(moved, norm(model.position(i) - before));
     }
+    region.add_move(moved);
     region.build(model, index, drift, contacts);
     SCOPED_TRACE(::testing::Message() << "frame " << frame << ", radius " << radius);
     const Expected e = brute_force(model, contacts, radius, radius - region.border_width());
@@ -138,6 +142,69 @@ TEST(Region, BuildsThatScanEveryPointCollectWhatTheQueriesWould) {
   }
   EXPECT_GE(scanned, 3);
   EXPECT_GE(queried, 3);
+  EXPECT_GT(region.balls().hits(), 0u);  // some queries came from balls kept across frames
+}
+
+// Moves the points between `from` and `to` of c (at their current positions) radially to
+// `at` from c; returns how far the farthest moved.
+double move_radially(PointModel& model, const Vec3& c, double from, double to, double at) {
+  double farthest = 0.0;
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    const Vec3 p = model.position(i);
+    const double d = norm(p - c);
+    if (!(d > from && d < to)) continue;
+    model.set_position(i, c + (p - c) * (at / d));
+    farthest = std::max(farthest, norm(model.position(i) - p));
+  }
+  return farthest;
+}
+
+// A stroke keeps its balls' candidates across frames (BallCache): moves larger than the margin
+// the balls were found with must reach them through add_move(), and a restore (back_to_base)
+// or a write from outside (remeasure) must drop them, or points that came into a ball are
+// missed. Each case moves points from beyond the kept ball into the region or back.
+TEST(Region, KeptBallsFollowEveryMoveAndNoneSurvivesARestoreOrARemeasure) {
+  const PointModel original = make_sphere(20000);
+  PointModel model = original;
+  const PointIndex index(original);  // queries allow for the drift since this snapshot
+  RegionSettings settings;
+  settings.kind = RegionSettings::Kind::kRadius;
+  settings.radius = 0.3;
+  Region region(settings, model, index, 0.02);
+  const std::vector<Vec3> contacts = {model.position(100)};
+  const double drift = 0.5;
+  const auto matches = [&](const char* step) {
+    region.build(model, index, drift, contacts);
+    SCOPED_TRACE(step);
+    const Expected e = brute_force(model, contacts, settings.radius, settings.radius - region.border_width());
+    EXPECT_EQ(std::vector<std::uint32_t>(region.points().begin(), region.points().end()), e.points);
+    EXPECT_EQ(std::vector<std::uint32_t>(region.border().begin(), region.border().end()), e.border);
+  };
+  // A finger held still until its ball is kept and used (a build after crowded points may
+  // scan instead of querying, and a press queries plainly).
+  const auto stroke = [&] {
+    const std::size_t hits = region.balls().hits();
+    for (int frame = 0; frame < 4 && region.balls().hits() == hits; ++frame) matches("held");
+    ASSERT_GT(region.balls().hits(), hits);
+  };
+  const double kept = settings.radius * (1.0 + BallCache::kMargin);
+  // Told: points from beyond the kept ball carried into the region.
+  stroke();
+  region.add_move(move_radially(model, contacts[0], kept, kept + 0.1, 0.2));
+  matches("after a move it was told of");
+  // A write from outside, not told but remeasured.
+  stroke();
+  ASSERT_GT(move_radially(model, contacts[0], kept + 0.1, kept + 0.2, 0.25), 0.2);
+  region.remeasure(model);
+  matches("after a write from outside");
+  // A restore to the base: points the stroke had pushed out come back in.
+  model = original;
+  region.back_to_base();
+  region.add_move(move_radially(model, contacts[0], 0.05, 0.15, kept + 0.1));
+  stroke();
+  model = original;
+  region.back_to_base();
+  matches("after a restore");
 }
 
 }  // namespace

@@ -170,7 +170,8 @@ class Deformer {
 
   /// Largest distance any point moved since the index was built; queries stay exact.
   double drift() const { return drift_; }
-  /// Rebuilds the k-d tree on the current positions (allocates: keep it off the real-time path).
+  /// Rebuilds the k-d tree on the current positions, however they were written, and measures
+  /// the model again (allocates: keep it off the real-time path).
   void rebuild_index();
   /// Swaps in an index built elsewhere (off the real-time path) from a snapshot of the positions
   /// taken when drift() was `drift_at_snapshot`; `fresh` receives the old index, for the caller

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "sculpt/deform/ball_cache.hpp"
 #include "sculpt/deform/point_index.hpp"
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/deform/point_set.hpp"
@@ -59,6 +60,13 @@ class Region {
     box_lo_ = base_lo_;
     box_hi_ = base_hi_;
     moved_since_measure_ = 0.0;
+    balls_.forget();
+  }
+  /// The model's positions were written from outside the frames (add_move() was not told):
+  /// measures its box again and forgets the balls kept. Set-up time: a pass over the points.
+  void remeasure(const PointModel& model) noexcept {
+    measure_model(model);
+    balls_.forget();
   }
 
   /// Every point moved at most `distance` more (the deformer's stored move of a kept frame).
@@ -66,6 +74,7 @@ class Region {
   /// call a ball whole).
   void add_move(double distance) noexcept {
     if (!(distance <= 0.0)) moved_since_measure_ += distance;
+    balls_.add_move(distance);
   }
   /// Points that move, ascending; when global(), every point moves whatever this holds.
   std::span<const std::uint32_t> points() const { return points_; }
@@ -79,6 +88,8 @@ class Region {
   }
   /// Whether the last build() tested every point rather than querying the index.
   bool scanned() const { return scanned_; }
+  /// The balls answered from candidates kept from an earlier frame, and those queried afresh.
+  const BallCache& balls() const { return balls_; }
   /// Points of the pinned band, ascending; a subset of points().
   std::span<const std::uint32_t> border() const { return border_; }
   const RegionSettings& settings() const { return settings_; }
@@ -124,6 +135,7 @@ class Region {
   Vec3 base_lo_{}, base_hi_{};           // and at construction
   double moved_since_measure_ = 0.0;     // no point moved farther since
   PointSet found_, band_found_;          // empty between frames
+  BallCache balls_;                      // the balls' candidates, kept across a stroke's frames
   std::size_t found_last_ = 0;           // points the last build's balls held, once per ball
   bool scanned_ = false;                 // the last build scanned
 };

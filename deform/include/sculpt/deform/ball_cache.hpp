@@ -1,0 +1,91 @@
+#pragma once
+// The region's ball queries, answered from the candidates of a wider ball found a few frames
+// before while the contact and the points stay close enough to where they were.
+//
+// Why: in a stroke each finger's region ball is nearly the one the frame before asked for: the
+// contact moves a fraction of a spacing, and the points move by the frame's displacement. A
+// fresh k-d tree query for every ball, every frame, was about 40 % of a 100k-point five-finger
+// stroke frame (the tree's walk, and the drift widening it as the stroke goes deeper). A ball of
+// radius r + m around c0 that held every point within it when it was found still holds every
+// point that is now within r of c, as long as |c - c0| plus the farthest any point has moved
+// since stays within m; the frame then tests those candidates alone, at their current positions,
+// by the comparison the tree's query makes, so that the answer is the same set to the bit.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "sculpt/deform/point_index.hpp"
+#include "sculpt/deform/point_model.hpp"
+#include "sculpt/deform/vec3.hpp"
+
+namespace sculpt::deform {
+
+class BallCache {
+ public:
+  /// How much wider than asked a fresh ball is found, as a share of the radius: a fifth keeps
+  /// a ball for a few frames of the bench's stroke (half a spacing a frame on a 20-spacing ball)
+  /// at 1.44 times the points of one query.
+  static constexpr double kMargin = 0.2;
+
+  BallCache() = default;
+  /// Room for the candidates of balls over a model of `points` points (4 bytes a point).
+  /// Allocates.
+  explicit BallCache(std::size_t points);
+
+  /// Every point may have moved by up to `distance` more since the last call (a kept frame's
+  /// stored move). Not finite: every ball is forgotten.
+  void add_move(double distance) noexcept;
+  /// The model's positions changed by more than add_move() was told (a restore, or a write from
+  /// outside): every ball is forgotten.
+  void forget() noexcept;
+
+  /// Writes into `out` (cleared first; within its capacity, never grown) the points of `model`
+  /// within `radius` of `c` at their current positions, squared distance <= radius * radius as
+  /// PointIndex::within_radius compares it, in no particular order: from a kept ball when one
+  /// still covers this ball; else, when the frame before asked for a ball near this one (a
+  /// stroke), from a wider query of `index` (with `drift`, as PointIndex::within_radius) whose
+  /// result is kept when it fits; else (a finger that just came down, or one moving too fast
+  /// for a ball to last) from a plain query, so that a single press pays nothing for the
+  /// balls. Returns false when a point did not fit in `out` (or the index cannot answer for
+  /// the model), as the index does. noexcept, allocation-free.
+  bool within_radius(const PointModel& model, const PointIndex& index, double drift, const Vec3& c, double radius,
+                     std::vector<std::uint32_t>& out) noexcept;
+  /// The frame's queries are over: a ball none of them used since the last call may be dropped
+  /// when room is needed.
+  void end_frame() noexcept;
+
+  /// Since construction: queries answered from a kept ball, wider queries (their ball kept when
+  /// it fits), and plain queries.
+  std::size_t hits() const noexcept { return hits_; }
+  std::size_t wider() const noexcept { return wider_; }
+  std::size_t plain() const noexcept { return plain_; }
+
+ private:
+  static constexpr std::size_t kMaxBalls = 16;
+  struct Ball {
+    Vec3 centre;
+    double radius = 0.0;    // every point within it of centre when it was found is a candidate
+    double moved = 0.0;     // no point moved farther since
+    std::size_t begin = 0;  // its candidates: pool_[begin, begin + count)
+    std::size_t count = 0;
+    bool used = false;  // asked for since the last end_frame()
+  };
+  const Ball* covering(const Vec3& c, double radius) const noexcept;
+  // Whether the frame before asked for a ball whose centre lies within `reach` of c.
+  bool asked_before_near(const Vec3& c, double reach) const noexcept;
+  // Makes room for `count` candidates at the pool's end, dropping the balls not used this
+  // frame and moving the others to the front; false when there is no such room even then.
+  bool make_room(std::size_t count) noexcept;
+
+  std::vector<std::uint32_t> pool_;  // every kept ball's candidates, one after another
+  std::array<Ball, kMaxBalls> balls_{};
+  std::size_t ball_count_ = 0;
+  // The centres this frame's queries asked for, and the frame before's.
+  std::array<Vec3, kMaxBalls> asked_{}, asked_before_{};
+  std::size_t asked_count_ = 0, asked_before_count_ = 0;
+  std::size_t hits_ = 0, wider_ = 0, plain_ = 0;
+};
+
+}  // namespace sculpt::deform

@@ -1,0 +1,123 @@
+#include "sculpt/deform/ball_cache.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "moved_overlay.hpp"
+
+namespace sculpt::deform {
+
+BallCache::BallCache(std::size_t points) { pool_.reserve(points); }
+
+void BallCache::add_move(double distance) noexcept {
+  if (!std::isfinite(distance)) {
+    forget();
+    return;
+  }
+  if (!(distance > 0.0)) return;
+  for (std::size_t b = 0; b < ball_count_; ++b) balls_[b].moved += distance;
+}
+
+void BallCache::forget() noexcept {
+  ball_count_ = 0;
+  pool_.clear();
+  asked_count_ = asked_before_count_ = 0;
+}
+
+bool BallCache::asked_before_near(const Vec3& c, double reach) const noexcept {
+  for (std::size_t k = 0; k < asked_before_count_; ++k) {
+    if (norm(c - asked_before_[k]) <= reach) return true;
+  }
+  return false;
+}
+
+const BallCache::Ball* BallCache::covering(const Vec3& c, double radius) const noexcept {
+  // A point within radius of c now was within radius + |c - centre| + moved of the centre when
+  // the ball was found. The relative margin stands far above the rounding of these distances
+  // (and of the moves' running sum), so that the candidates hold every point the tree's query
+  // would find, whatever the rounding.
+  constexpr double kSlack = 1.0 + 1e-9;
+  for (std::size_t b = 0; b < ball_count_; ++b) {
+    const Ball& ball = balls_[b];
+    if ((radius + norm(c - ball.centre) + ball.moved) * kSlack <= ball.radius) return &ball;
+  }
+  return nullptr;
+}
+
+bool BallCache::make_room(std::size_t count) noexcept {
+  if (ball_count_ < kMaxBalls && pool_.size() + count <= pool_.capacity()) return true;
+  std::size_t kept = 0, end = 0;
+  for (std::size_t b = 0; b < ball_count_; ++b) {
+    Ball ball = balls_[b];
+    if (!ball.used) continue;
+    std::copy(pool_.begin() + static_cast<std::ptrdiff_t>(ball.begin),
+              pool_.begin() + static_cast<std::ptrdiff_t>(ball.begin + ball.count),
+              pool_.begin() + static_cast<std::ptrdiff_t>(end));
+    ball.begin = end;
+    end += ball.count;
+    balls_[kept++] = ball;
+  }
+  ball_count_ = kept;
+  pool_.resize(end);
+  return ball_count_ < kMaxBalls && end + count <= pool_.capacity();
+}
+
+bool BallCache::within_radius(const PointModel& model, const PointIndex& index, double drift, const Vec3& c,
+                              double radius, std::vector<std::uint32_t>& out) noexcept {
+  const double q[3] = {c.x, c.y, c.z};
+  const double radius_squared = radius * radius;
+  const auto plain = [&] { return index.within_radius(model, c, radius, out, drift, /*ascending=*/false); };
+  if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !(radius >= 0.0) || !std::isfinite(radius)) {
+    return plain();  // nothing worth keeping
+  }
+  if (asked_count_ < kMaxBalls) asked_[asked_count_++] = c;
+  const Ball* ball = covering(c, radius);
+  if (ball == nullptr) {
+    const double wider = radius * (1.0 + kMargin);
+    if (!asked_before_near(c, wider - radius)) {
+      ++plain_;
+      return plain();
+    }
+    ++wider_;
+    // Not every candidate fitted, or no room to keep them: the plain query answers exactly.
+    if (!index.within_radius(model, c, wider, out, drift, /*ascending=*/false)) return plain();
+    if (!make_room(out.size())) {
+      // No room to keep them: this frame's answer from the candidates alone, in place.
+      std::size_t kept = 0;
+      for (const std::uint32_t i : out) {
+        if (current_squared_distance(model, i, q) <= radius_squared) out[kept++] = i;
+      }
+      out.resize(kept);
+      return true;
+    }
+    Ball& fresh = balls_[ball_count_++];
+    fresh = Ball{c, wider, 0.0, pool_.size(), out.size(), true};
+    pool_.insert(pool_.end(), out.begin(), out.end());
+    ball = &fresh;
+  } else {
+    ++hits_;
+  }
+  balls_[static_cast<std::size_t>(ball - balls_.data())].used = true;
+  out.clear();
+  const std::uint32_t* candidates = pool_.data() + ball->begin;
+  bool complete = true;
+  for (std::size_t k = 0; k < ball->count; ++k) {
+    const std::uint32_t i = candidates[k];
+    if (!(current_squared_distance(model, i, q) <= radius_squared)) continue;
+    if (out.size() < out.capacity()) {
+      out.push_back(i);
+    } else {
+      complete = false;
+    }
+  }
+  return complete;
+}
+
+void BallCache::end_frame() noexcept {
+  for (std::size_t b = 0; b < ball_count_; ++b) balls_[b].used = false;
+  asked_before_ = asked_;
+  asked_before_count_ = asked_count_;
+  asked_count_ = 0;
+}
+
+}  // namespace sculpt::deform

@@ -1,0 +1,194 @@
+// The region's kept balls against a brute-force pass over every point at its current position:
+// through strokes whose points move under the fingers, a query answered from a kept ball must
+// be the very set a fresh query finds, and a ball must stop being used once the fingers or the
+// points may have left it.
+#include "sculpt/deform/ball_cache.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "sculpt/deform/generators.hpp"
+
+namespace sculpt::deform {
+namespace {
+
+// Every point within radius of c, by its own squared distance in double from the float
+// coordinates (the comparison the index documents), ascending.
+std::vector<std::uint32_t> brute_force(const PointModel& model, const Vec3& c, double radius) {
+  std::vector<std::uint32_t> inside;
+  for (std::uint32_t i = 0; i < model.size(); ++i) {
+    const double dx = static_cast<double>(model.x[i]) - c.x;
+    const double dy = static_cast<double>(model.y[i]) - c.y;
+    const double dz = static_cast<double>(model.z[i]) - c.z;
+    if (dx * dx + dy * dy + dz * dz <= radius * radius) inside.push_back(i);
+  }
+  return inside;
+}
+
+std::vector<std::uint32_t> sorted(std::vector<std::uint32_t> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+// Sinks the points near c towards the sphere's centre by up to `depth`, as a press does, and
+// returns how far the farthest moved.
+double press(PointModel& model, const Vec3& c, double depth, double reach) {
+  double farthest = 0.0;
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    const Vec3 p = model.position(i);
+    const double closeness = std::max(0.0, 1.0 - norm(p - c) / reach);
+    if (closeness == 0.0) continue;
+    model.set_position(i, p - normalized(p) * (depth * closeness));
+    farthest = std::max(farthest, norm(model.position(i) - p));
+  }
+  return farthest;
+}
+
+TEST(BallCache, AStrokesBallsAreTheBruteForceSetsWhileTheFingersSlideAndThePointsSink) {
+  PointModel model = make_sphere(20000);
+  const PointIndex index(model);  // the snapshot the drift is counted from
+  BallCache balls(model.size());
+  std::vector<std::uint32_t> out;
+  out.reserve(model.size());
+  const double radius = 0.2;
+  double drift = 0.0;
+  for (int frame = 0; frame < 60; ++frame) {
+    // Three fingers: two slide slowly side by side (their balls overlap), the third fast enough
+    // to leave a kept ball every other frame; all press a little deeper each frame.
+    const double a = 0.004 * frame, b = 0.03 * frame;
+    const std::vector<Vec3> contacts = {{std::cos(a), std::sin(a), 0.0},
+                                        {std::cos(a + 0.05), std::sin(a + 0.05), 0.02},
+                                        {0.0, std::sin(b), -std::cos(b)}};
+    for (const Vec3& c : contacts) {
+      balls.within_radius(model, index, drift, c, radius, out);
+      SCOPED_TRACE(::testing::Message() << "frame " << frame);
+      ASSERT_EQ(sorted(out), brute_force(model, c, radius));
+    }
+    balls.end_frame();
+    double moved = 0.0;
+    for (const Vec3& c : contacts) moved = std::max(moved, press(model, c, 0.002, 0.15));
+    balls.add_move(moved);
+    drift += moved * 3.0;  // the index's bound may be loose; the balls' must hold
+  }
+  // Every way was met: the slow fingers kept their balls, the fast one needed new ones, and the
+  // first frame, a press, asked plainly.
+  EXPECT_GT(balls.hits(), 90u);
+  EXPECT_GT(balls.wider(), 20u);
+  EXPECT_EQ(balls.plain(), 3u);
+}
+
+// A 5,000-point sphere, its index and a cache, asked for balls of 0.3 near its pole.
+class BallCacheOnASphere : public ::testing::Test {
+ protected:
+  BallCacheOnASphere() { out.reserve(model.size()); }
+  PointModel model = make_sphere(5000);
+  const PointIndex index{model};
+  BallCache balls{model.size()};
+  std::vector<std::uint32_t> out;
+  const double radius = 0.3;
+  const double margin = radius * BallCache::kMargin;
+  const Vec3 c{0.0, 0.0, 1.0};
+};
+
+TEST_F(BallCacheOnASphere, ABallIsKeptInAStrokeAndLeftOnceTheFingerOrThePointsMayHaveLeftIt) {
+  const auto frame = [&](const Vec3& at) {
+    balls.within_radius(model, index, 0.0, at, radius, out);
+    EXPECT_EQ(sorted(out), brute_force(model, at, radius));
+    balls.end_frame();
+  };
+  // A finger coming down: a plain query, nothing kept (a single press pays nothing more).
+  frame(c);
+  EXPECT_EQ(balls.plain(), 1u);
+  EXPECT_EQ(balls.wider(), 0u);
+  // The next frame near it: a stroke, so a wider ball is found and kept.
+  const Vec3 c1 = c + Vec3{0.1 * margin, 0.0, 0.0};
+  frame(c1);
+  EXPECT_EQ(balls.wider(), 1u);
+  // A finger that moved half the margin since is still covered.
+  frame(c1 + Vec3{0.5 * margin, 0.0, 0.0});
+  EXPECT_EQ(balls.hits(), 1u);
+  // Points told to have moved half the margin leave a finger that moved half of it uncovered.
+  balls.add_move(0.5 * margin);
+  frame(c1 + Vec3{0.0, 0.51 * margin, 0.0});
+  EXPECT_EQ(balls.hits(), 1u);
+  EXPECT_EQ(balls.wider(), 2u);
+  // Back where the first ball was found, moved half the margin: covered.
+  frame(c1);
+  EXPECT_EQ(balls.hits(), 2u);
+  // A move that is not a number forgets every ball and every finger: a press again.
+  balls.add_move(std::numeric_limits<double>::quiet_NaN());
+  frame(c1);
+  EXPECT_EQ(balls.plain(), 2u);
+  frame(c1);
+  EXPECT_EQ(balls.wider(), 3u);
+  frame(c1);
+  EXPECT_EQ(balls.hits(), 3u);
+  // And so does forget().
+  balls.forget();
+  frame(c1);
+  EXPECT_EQ(balls.plain(), 3u);
+  EXPECT_EQ(balls.hits(), 3u);
+  // A finger jumping farther than the margin every frame never pays for a wider ball.
+  for (int k = 1; k <= 6; ++k) frame(c1 + Vec3{0.0, 1.5 * margin * k, 0.0});
+  EXPECT_EQ(balls.plain(), 9u);
+  EXPECT_EQ(balls.wider(), 3u);
+}
+
+TEST_F(BallCacheOnASphere, PointsThatMovedIntoAKeptBallAreFoundWhereTheyAreNow) {
+  for (int k = 0; k < 2; ++k) {
+    balls.within_radius(model, index, 0.0, c, radius, out);
+    balls.end_frame();
+  }
+  ASSERT_EQ(balls.wider(), 1u);
+  // A press sinks the points under the finger by about half the margin, and the finger follows
+  // them down: the points that came within its ball are found in the kept one.
+  const double moved = press(model, c, 0.5 * margin, 2.0 * radius);
+  ASSERT_GT(moved, 0.4 * margin);
+  balls.add_move(moved);
+  const Vec3 lower = c - Vec3{0.0, 0.0, 0.4 * margin};
+  const std::vector<std::uint32_t> now = brute_force(model, lower, radius);
+  ASSERT_NE(now, brute_force(make_sphere(5000), lower, radius));  // the press changed the answer
+  balls.within_radius(model, index, moved, lower, radius, out);
+  EXPECT_EQ(balls.hits(), 1u);
+  EXPECT_EQ(sorted(out), now);
+}
+
+TEST(BallCache, MoreBallsThanItKeepsOrMoreCandidatesThanItHoldsStillAnswerExactly) {
+  const PointModel model = make_sphere(8000);
+  const PointIndex index(model);
+  std::vector<std::uint32_t> out;
+  out.reserve(model.size());
+  // Twenty fingers in one frame, more balls than it keeps, asked three times.
+  BallCache balls(model.size());
+  std::vector<Vec3> contacts;
+  for (int k = 0; k < 20; ++k) contacts.push_back(model.position(static_cast<std::size_t>(k) * 397));
+  for (int round = 0; round < 3; ++round) {
+    for (const Vec3& c : contacts) {
+      balls.within_radius(model, index, 0.0, c, 0.25, out);
+      ASSERT_EQ(sorted(out), brute_force(model, c, 0.25));
+    }
+    balls.end_frame();
+  }
+  EXPECT_GT(balls.hits(), 0u);
+  // Balls holding most of the model: the pool (a model's worth) cannot keep a second one, and
+  // the answers are exact all the same.
+  BallCache crowded(model.size());
+  for (int round = 0; round < 3; ++round) {
+    for (const Vec3& c : {Vec3{0, 0, 1}, Vec3{0, 0, -1}, Vec3{1, 0, 0}}) {
+      crowded.within_radius(model, index, 0.0, c, 1.5, out);
+      ASSERT_EQ(sorted(out), brute_force(model, c, 1.5));
+    }
+    crowded.end_frame();
+  }
+  // A non-finite finger finds nothing and keeps nothing.
+  crowded.within_radius(model, index, 0.0, Vec3{std::nan(""), 0.0, 0.0}, 0.25, out);
+  EXPECT_TRUE(out.empty());
+}
+
+}  // namespace
+}  // namespace sculpt::deform
