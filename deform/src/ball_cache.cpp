@@ -7,7 +7,9 @@
 
 namespace sculpt::deform {
 
-BallCache::BallCache(std::size_t points) { pool_.reserve(points); }
+BallCache::BallCache(std::size_t capacity, double margin, bool ascending) : margin_(margin), ascending_(ascending) {
+  pool_.reserve(capacity);
+}
 
 void BallCache::add_move(double distance) noexcept {
   if (!std::isfinite(distance)) {
@@ -66,14 +68,14 @@ bool BallCache::within_radius(const PointModel& model, const PointIndex& index, 
                               double radius, std::vector<std::uint32_t>& out) noexcept {
   const double q[3] = {c.x, c.y, c.z};
   const double radius_squared = radius * radius;
-  const auto plain = [&] { return index.within_radius(model, c, radius, out, drift, /*ascending=*/false); };
+  const auto plain = [&] { return index.within_radius(model, c, radius, out, drift, ascending_); };
   if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !(radius >= 0.0) || !std::isfinite(radius)) {
     return plain();  // nothing worth keeping
   }
   if (asked_count_ < kMaxBalls) asked_[asked_count_++] = c;
   const Ball* ball = covering(c, radius);
   if (ball == nullptr) {
-    const double wider = radius * (1.0 + kMargin);
+    const double wider = radius * (1.0 + margin_);
     if (!asked_before_near(c, wider - radius)) {
       ++plain_;
       return plain();
@@ -88,11 +90,14 @@ bool BallCache::within_radius(const PointModel& model, const PointIndex& index, 
         if (current_squared_distance(model, i, q) <= radius_squared) out[kept++] = i;
       }
       out.resize(kept);
+      if (ascending_) std::sort(out.begin(), out.end());
       return true;
     }
     Ball& fresh = balls_[ball_count_++];
     fresh = Ball{c, wider, 0.0, pool_.size(), out.size(), true};
     pool_.insert(pool_.end(), out.begin(), out.end());
+    // Kept in the order the queries want, so that every later query comes out in it for free.
+    if (ascending_) std::sort(pool_.begin() + static_cast<std::ptrdiff_t>(fresh.begin), pool_.end());
     ball = &fresh;
   } else {
     ++hits_;
@@ -111,6 +116,31 @@ bool BallCache::within_radius(const PointModel& model, const PointIndex& index, 
     }
   }
   return complete;
+}
+
+PointIndex::Nearest BallCache::nearest(const PointModel& model, const PointIndex& index, double drift, const Vec3& q,
+                                       std::uint32_t hint) noexcept {
+  const auto plain = [&] { return index.nearest(model, q, drift, hint); };
+  if (hint >= model.size() || !index.indexes(model) || !is_finite(q)) return plain();
+  const double query[3] = {q.x, q.y, q.z};
+  // The nearest point is no farther than the hint: every point that close is in a covering ball.
+  const double hint_squared = current_squared_distance(model, hint, query);
+  const Ball* ball = covering(q, std::sqrt(hint_squared));
+  if (ball == nullptr) return plain();
+  ++hits_;
+  balls_[static_cast<std::size_t>(ball - balls_.data())].used = true;
+  std::uint32_t best = hint;
+  double best_squared = hint_squared;
+  const std::uint32_t* candidates = pool_.data() + ball->begin;
+  for (std::size_t k = 0; k < ball->count; ++k) {
+    const std::uint32_t i = candidates[k];
+    const double d2 = current_squared_distance(model, i, query);
+    if (d2 < best_squared || (d2 == best_squared && i < best)) {
+      best_squared = d2;
+      best = i;
+    }
+  }
+  return {best, std::sqrt(best_squared)};
 }
 
 void BallCache::end_frame() noexcept {

@@ -52,9 +52,10 @@ double side_smoothing(const PointModel& model, const PointIndex& index, double b
 
 SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift, const Vec3& probe,
                    const ContactSettings& settings, double smoothing, std::vector<std::uint32_t>& neighbours,
-                   std::uint32_t hint) noexcept {
+                   std::uint32_t hint, BallCache* balls) noexcept {
   SurfaceSide s;
-  const PointIndex::Nearest near = index.nearest(model, probe, drift, hint);
+  const PointIndex::Nearest near =
+      balls != nullptr ? balls->nearest(model, index, drift, probe, hint) : index.nearest(model, probe, drift, hint);
   s.nearest = near.index;
   s.distance = near.distance;
   if (near.index == PointIndex::kNoPoint) return s;
@@ -69,7 +70,11 @@ SurfaceSide locate(const PointModel& model, const PointIndex& index, double drif
   if (!(h > 0.0) || !(near.distance <= 2.0 * h)) return s;
   // Every point that weighs at the probe (|P - p|^2 < d^2 + 4h^2) or at A (|A - p| < 2h) lies
   // within d + 2h of the probe.
-  if (!index.within_radius(model, probe, near.distance + 2.0 * h, neighbours, drift)) return s;
+  const double reach = near.distance + 2.0 * h;
+  if (!(balls != nullptr ? balls->within_radius(model, index, drift, probe, reach, neighbours)
+                         : index.within_radius(model, probe, reach, neighbours, drift))) {
+    return s;
+  }
   const double inv = 1.0 / (4.0 * h * h);
   const double d2 = near.distance * near.distance;
   double weight_p = 0.0, sum_p = 0.0, weight_a = 0.0, sum_a = 0.0;

@@ -107,6 +107,10 @@ Deformer::Deformer(PointModel& model, const DeformSettings& settings)
   neighbours_.reserve(n);
   side_neighbours_.reserve(n);
   side_smoothing_ = side_smoothing(model_, index_, settings_.contact.bc_radius);
+  // A located probe's balls hold a few hundred points (4h and the margin, 24 points to an
+  // h-ball); two per finger and frame fit many times over.
+  constexpr std::size_t kProbeBallPoints = 65536;
+  probe_balls_ = BallCache(std::min(n, kProbeBallPoints), BallCache::kProbeMargin, /*ascending=*/true);
   // Every finger's patch holds at most max_patch_points (thinned beyond), so the worst frame
   // is every probe's full patch plus the region's band (at most every point).
   const std::size_t patch = std::min(n, settings_.contact.max_patch_points);
@@ -131,6 +135,7 @@ void Deformer::rebuild_index() {
   // the model): what was known of how far they could have moved holds no longer.
   extent_ = largest_coordinate(model_);
   region_.remeasure(model_);
+  probe_balls_.forget();
   drift_ = 0.0;
   index_holds_base_ = false;
 }
@@ -163,6 +168,7 @@ void Deformer::restore(const PointModel& base) {
   std::copy(base.nz.begin(), base.nz.end(), model_.nz.begin());
   extent_ = largest_coordinate(model_);
   region_.back_to_base();
+  probe_balls_.forget();
   if (index_holds_base_) {
     drift_ = 0.0;
     index_.forget_moved();
@@ -244,7 +250,8 @@ void Deformer::compute_tractions(FrameReport& r) noexcept {
 }
 
 SurfaceSide Deformer::locate_probe(const Vec3& probe, std::uint32_t hint) noexcept {
-  return locate(model_, index_, drift_, probe, settings_.contact, side_smoothing_, side_neighbours_, hint);
+  return locate(model_, index_, drift_, probe, settings_.contact, side_smoothing_, side_neighbours_, hint,
+                &probe_balls_);
 }
 
 Vec3 Deformer::outward(std::uint32_t point) const noexcept {
@@ -482,6 +489,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   const double drift_before = drift_;
   add_stored_move(r.max_displacement, drift_, extent_);
   region_.add_move(drift_ - drift_before);
+  probe_balls_.add_move(drift_ - drift_before);
 
   keep_probes_outside(probes, r);
   return Outcome::kApplied;
@@ -607,6 +615,7 @@ const FrameReport& Deformer::deform(std::span<const ProbeMotion> probes) noexcep
     split_frame(probes, folded_);
   }
   merge_step(probes.size());
+  probe_balls_.end_frame();
   return report_;
 }
 

@@ -53,7 +53,7 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
     as_found_.reserve(n);
     found_ = PointSet(n);
     band_found_ = PointSet(n);
-    balls_ = BallCache(n);
+    balls_ = BallCache(n, BallCache::kRegionMargin, /*ascending=*/false);
   }
   if (settings_.kind == Kind::kIndices) {
     points_ = settings_.indices;

@@ -12,6 +12,7 @@
 #include <limits>
 #include <vector>
 
+#include "sculpt/deform/contact.hpp"
 #include "sculpt/deform/generators.hpp"
 
 namespace sculpt::deform {
@@ -52,7 +53,7 @@ double press(PointModel& model, const Vec3& c, double depth, double reach) {
 TEST(BallCache, AStrokesBallsAreTheBruteForceSetsWhileTheFingersSlideAndThePointsSink) {
   PointModel model = make_sphere(20000);
   const PointIndex index(model);  // the snapshot the drift is counted from
-  BallCache balls(model.size());
+  BallCache balls(model.size(), BallCache::kRegionMargin, false);
   std::vector<std::uint32_t> out;
   out.reserve(model.size());
   const double radius = 0.2;
@@ -88,10 +89,10 @@ class BallCacheOnASphere : public ::testing::Test {
   BallCacheOnASphere() { out.reserve(model.size()); }
   PointModel model = make_sphere(5000);
   const PointIndex index{model};
-  BallCache balls{model.size()};
+  BallCache balls{model.size(), BallCache::kRegionMargin, false};
   std::vector<std::uint32_t> out;
   const double radius = 0.3;
-  const double margin = radius * BallCache::kMargin;
+  const double margin = radius * BallCache::kRegionMargin;
   const Vec3 c{0.0, 0.0, 1.0};
 };
 
@@ -164,7 +165,7 @@ TEST(BallCache, MoreBallsThanItKeepsOrMoreCandidatesThanItHoldsStillAnswerExactl
   std::vector<std::uint32_t> out;
   out.reserve(model.size());
   // Twenty fingers in one frame, more balls than it keeps, asked three times.
-  BallCache balls(model.size());
+  BallCache balls(model.size(), BallCache::kRegionMargin, false);
   std::vector<Vec3> contacts;
   for (int k = 0; k < 20; ++k) contacts.push_back(model.position(static_cast<std::size_t>(k) * 397));
   for (int round = 0; round < 3; ++round) {
@@ -177,7 +178,7 @@ TEST(BallCache, MoreBallsThanItKeepsOrMoreCandidatesThanItHoldsStillAnswerExactl
   EXPECT_GT(balls.hits(), 0u);
   // Balls holding most of the model: the pool (a model's worth) cannot keep a second one, and
   // the answers are exact all the same.
-  BallCache crowded(model.size());
+  BallCache crowded(model.size(), BallCache::kRegionMargin, false);
   for (int round = 0; round < 3; ++round) {
     for (const Vec3& c : {Vec3{0, 0, 1}, Vec3{0, 0, -1}, Vec3{1, 0, 0}}) {
       crowded.within_radius(model, index, 0.0, c, 1.5, out);
@@ -188,6 +189,83 @@ TEST(BallCache, MoreBallsThanItKeepsOrMoreCandidatesThanItHoldsStillAnswerExactl
   // A non-finite finger finds nothing and keeps nothing.
   crowded.within_radius(model, index, 0.0, Vec3{std::nan(""), 0.0, 0.0}, 0.25, out);
   EXPECT_TRUE(out.empty());
+}
+
+// The nearest point by brute force: the smallest squared distance, ties to the smallest index.
+std::uint32_t brute_nearest(const PointModel& model, const Vec3& q) {
+  std::uint32_t best = 0;
+  double best_squared = std::numeric_limits<double>::infinity();
+  for (std::uint32_t i = 0; i < model.size(); ++i) {
+    const double dx = static_cast<double>(model.x[i]) - q.x;
+    const double dy = static_cast<double>(model.y[i]) - q.y;
+    const double dz = static_cast<double>(model.z[i]) - q.z;
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    if (d2 < best_squared) {
+      best_squared = d2;
+      best = i;
+    }
+  }
+  return best;
+}
+
+// A probe's balls (ascending, the wider margin) through a stroke that presses the points under
+// it: locate() with them reads the same nearest point, the same neighbours in the same order
+// and so the same side to the bit as locate() on the index alone, and the nearest point is the
+// brute-force one, ties included (probes at midpoints of two points).
+TEST(BallCache, ProbeBallsLocateAsTheIndexAloneDoesThroughAStroke) {
+  PointModel model = make_sphere(20000);
+  const PointIndex index(model);
+  BallCache balls(model.size(), BallCache::kProbeMargin, /*ascending=*/true);
+  ContactSettings settings;
+  settings.bc_radius = 0.05;
+  const double h = side_smoothing(model, index, settings.bc_radius);
+  std::vector<std::uint32_t> with_balls, alone;
+  with_balls.reserve(model.size());
+  alone.reserve(model.size());
+  std::uint32_t hint = PointIndex::kNoPoint;
+  double drift = 0.0;
+  int ties = 0;
+  for (int frame = 0; frame < 80; ++frame) {
+    const double a = 0.002 * frame;
+    const Vec3 on_surface{std::sin(a), 0.0, std::cos(a)};
+    // In and out of the surface by a few h; every fifth frame, between two points.
+    Vec3 probe = on_surface * (1.0 + 0.6 * h * std::sin(0.4 * frame));
+    if (frame % 5 == 4 && hint != PointIndex::kNoPoint) {
+      // The hint's own nearest neighbour: at their midpoint the two tie, unless a third point
+      // is nearer still.
+      std::uint32_t other = hint == 0 ? 1 : 0;
+      for (std::uint32_t j = 0; j < model.size(); ++j) {
+        if (j != hint && squared_norm(model.position(j) - model.position(hint)) <
+                             squared_norm(model.position(other) - model.position(hint))) {
+          other = j;
+        }
+      }
+      probe = (model.position(hint) + model.position(other)) * 0.5;
+      const double to_hint = squared_norm(model.position(hint) - probe);
+      if (to_hint == squared_norm(model.position(other) - probe) &&
+          brute_nearest(model, probe) == std::min(hint, other) && other < hint) {
+        ++ties;  // a tie the smaller index must win, against the hint
+      }
+    }
+    SCOPED_TRACE(::testing::Message() << "frame " << frame);
+    const SurfaceSide s = locate(model, index, drift, probe, settings, h, with_balls, hint, &balls);
+    const SurfaceSide t = locate(model, index, drift, probe, settings, h, alone, hint);
+    ASSERT_EQ(s.nearest, brute_nearest(model, probe));
+    EXPECT_EQ(s.nearest, t.nearest);
+    EXPECT_EQ(s.distance, t.distance);
+    EXPECT_EQ(s.plane_side, t.plane_side);
+    EXPECT_EQ(s.surface_side, t.surface_side);
+    EXPECT_EQ(s.side, t.side);
+    EXPECT_EQ(with_balls, alone);
+    hint = s.nearest;
+    balls.end_frame();
+    const double moved = press(model, on_surface, 0.05 * h, 6.0 * h);
+    balls.add_move(moved);
+    drift += moved;
+  }
+  EXPECT_GE(ties, 3);
+  EXPECT_GT(balls.hits(), 100u);  // nearest and the side's ball, most frames (138)
+  EXPECT_GT(balls.wider(), 3u);
 }
 
 }  // namespace

@@ -187,7 +187,7 @@ TEST(Region, KeptBallsFollowEveryMoveAndNoneSurvivesARestoreOrARemeasure) {
     for (int frame = 0; frame < 4 && region.balls().hits() == hits; ++frame) matches("held");
     ASSERT_GT(region.balls().hits(), hits);
   };
-  const double kept = settings.radius * (1.0 + BallCache::kMargin);
+  const double kept = settings.radius * (1.0 + BallCache::kRegionMargin);
   // Told: points from beyond the kept ball carried into the region.
   stroke();
   region.add_move(move_radially(model, contacts[0], kept, kept + 0.1, 0.2));

@@ -24,15 +24,21 @@ namespace sculpt::deform {
 
 class BallCache {
  public:
-  /// How much wider than asked a fresh ball is found, as a share of the radius: a fifth keeps
-  /// a ball for a few frames of the bench's stroke (half a spacing a frame on a 20-spacing ball)
-  /// at 1.44 times the points of one query.
-  static constexpr double kMargin = 0.2;
+  /// How much wider than asked a region's fresh ball is found, as a share of its radius: a
+  /// fifth keeps a ball for a few frames of the bench's fast stroke (half a spacing a frame on a
+  /// 20-spacing ball) at 1.44 times the points of one query.
+  static constexpr double kRegionMargin = 0.2;
+  /// The same for the small balls that locate the probes (a few spacings): half, so that a ball
+  /// lasts while the finger moves about a spacing, at 2.25 times the points.
+  static constexpr double kProbeMargin = 0.5;
 
   BallCache() = default;
-  /// Room for the candidates of balls over a model of `points` points (4 bytes a point).
-  /// Allocates.
-  explicit BallCache(std::size_t points);
+  /// Room for `capacity` candidates in all (4 bytes each), balls found `margin` (a share of
+  /// their radius) wider than asked; with `ascending`, each query's points come in ascending
+  /// index order, as PointIndex::within_radius gives them by default (the caller sums over
+  /// them: the order is part of the result). Allocates.
+  BallCache(std::size_t capacity, double margin, bool ascending);
+  double margin() const noexcept { return margin_; }
 
   /// Every point may have moved by up to `distance` more since the last call (a kept frame's
   /// stored move). Not finite: every ball is forgotten.
@@ -43,7 +49,7 @@ class BallCache {
 
   /// Writes into `out` (cleared first; within its capacity, never grown) the points of `model`
   /// within `radius` of `c` at their current positions, squared distance <= radius * radius as
-  /// PointIndex::within_radius compares it, in no particular order: from a kept ball when one
+  /// PointIndex::within_radius compares it, in the order set at construction: from a kept ball when one
   /// still covers this ball; else, when the frame before asked for a ball near this one (a
   /// stroke), from a wider query of `index` (with `drift`, as PointIndex::within_radius) whose
   /// result is kept when it fits; else (a finger that just came down, or one moving too fast
@@ -52,6 +58,13 @@ class BallCache {
   /// the model), as the index does. noexcept, allocation-free.
   bool within_radius(const PointModel& model, const PointIndex& index, double drift, const Vec3& c, double radius,
                      std::vector<std::uint32_t>& out) noexcept;
+  /// The nearest point of `model` to q at its current position, as PointIndex::nearest finds
+  /// it (ties to the smallest index), from a kept ball when one covers the ball around q
+  /// through the `hint`'s current position (the nearest point lies within it); otherwise from
+  /// the index. Makes no ball of its own: a probe's within_radius() that follows does.
+  /// noexcept, allocation-free.
+  PointIndex::Nearest nearest(const PointModel& model, const PointIndex& index, double drift, const Vec3& q,
+                              std::uint32_t hint) noexcept;
   /// The frame's queries are over: a ball none of them used since the last call may be dropped
   /// when room is needed.
   void end_frame() noexcept;
@@ -82,6 +95,8 @@ class BallCache {
   std::vector<std::uint32_t> pool_;  // every kept ball's candidates, one after another
   std::array<Ball, kMaxBalls> balls_{};
   std::size_t ball_count_ = 0;
+  double margin_ = kRegionMargin;
+  bool ascending_ = false;
   // The centres this frame's queries asked for, and the frame before's.
   std::array<Vec3, kMaxBalls> asked_{}, asked_before_{};
   std::size_t asked_count_ = 0, asked_before_count_ = 0;

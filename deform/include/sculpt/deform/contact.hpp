@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "sculpt/deform/ball_cache.hpp"
 #include "sculpt/deform/point_index.hpp"
 #include "sculpt/deform/point_model.hpp"
 #include "sculpt/deform/vec3.hpp"
@@ -84,10 +85,12 @@ double side_smoothing(const PointModel& model, const PointIndex& index, double b
 /// than 2h, and when the neighbourhood does not fit in `neighbours`, side = plane_side.
 /// `neighbours` is scratch: reserve() it for the model's size; it is never grown. `hint` is a
 /// guess at A that speeds the search (PointIndex::nearest); the result does not depend on it.
-/// Does not allocate or throw.
+/// `balls`, when given, answers both queries from the probe's balls kept across frames
+/// (BallCache, ascending; its moves told by the caller), to the same points and order as the
+/// index, so the result does not depend on it either. Does not allocate or throw.
 SurfaceSide locate(const PointModel& model, const PointIndex& index, double drift, const Vec3& probe,
                    const ContactSettings& settings, double smoothing, std::vector<std::uint32_t>& neighbours,
-                   std::uint32_t hint = PointIndex::kNoPoint) noexcept;
+                   std::uint32_t hint = PointIndex::kNoPoint, BallCache* balls = nullptr) noexcept;
 
 /// The same with its own scratch and smoothing (side_smoothing()): allocates; for set-up and
 /// tests, never the tick.

@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "sculpt/deform/ball_cache.hpp"
 #include "sculpt/deform/contact.hpp"
 #include "sculpt/deform/displacement_field.hpp"
 #include "sculpt/deform/kernel.hpp"
@@ -244,6 +245,7 @@ class Deformer {
   std::vector<std::uint32_t> neighbours_;
   std::vector<std::uint32_t> side_neighbours_;        // locate()'s scratch, reserved for the whole model
   double side_smoothing_ = 0.0;                       // locate()'s h (side_smoothing)
+  BallCache probe_balls_;                             // locate()'s balls, kept across a stroke's frames
   std::vector<std::uint32_t> contact_neighbourhood_;  // every contact's bc points, contact by contact
   std::vector<std::size_t> neighbourhood_begin_;      // where each probe's points start in it
   std::vector<double> patch_area_scale_;              // per probe: patch points before thinning / after
