@@ -23,12 +23,13 @@ void BallCache::add_move(double distance) noexcept {
 void BallCache::forget() noexcept {
   ball_count_ = 0;
   pool_.clear();
-  asked_count_ = asked_before_count_ = 0;
+  asked_count_ = asked_next_ = 0;
 }
 
 bool BallCache::asked_before_near(const Vec3& c, double reach) const noexcept {
-  for (std::size_t k = 0; k < asked_before_count_; ++k) {
-    if (norm(c - asked_before_[k]) <= reach) return true;
+  for (std::size_t k = 0; k < asked_count_; ++k) {
+    const Asked& a = asked_[k];
+    if (a.frame < frame_ && frame_ - a.frame <= kRecentFrames && norm(c - a.centre) <= reach) return true;
   }
   return false;
 }
@@ -72,7 +73,9 @@ bool BallCache::within_radius(const PointModel& model, const PointIndex& index, 
   if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !(radius >= 0.0) || !std::isfinite(radius)) {
     return plain();  // nothing worth keeping
   }
-  if (asked_count_ < kMaxBalls) asked_[asked_count_++] = c;
+  asked_[asked_next_] = Asked{c, frame_};
+  asked_next_ = (asked_next_ + 1) % asked_.size();
+  asked_count_ = std::min(asked_count_ + 1, asked_.size());
   const Ball* ball = covering(c, radius);
   if (ball == nullptr) {
     const double wider = radius * (1.0 + margin_);
@@ -145,9 +148,7 @@ PointIndex::Nearest BallCache::nearest(const PointModel& model, const PointIndex
 
 void BallCache::end_frame() noexcept {
   for (std::size_t b = 0; b < ball_count_; ++b) balls_[b].used = false;
-  asked_before_ = asked_;
-  asked_before_count_ = asked_count_;
-  asked_count_ = 0;
+  ++frame_;
 }
 
 }  // namespace sculpt::deform

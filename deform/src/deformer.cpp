@@ -183,7 +183,7 @@ std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displace
                                         FrameReport& r) noexcept {
   double radius = settings_.contact.bc_radius;
   // neighbours_ holds the whole model (reserved at set-up), so every query here is complete.
-  index_.within_radius(model_, centre, radius, neighbours_, drift_);
+  probe_balls_.within_radius(model_, index_, drift_, centre, radius, neighbours_);
   // A long push can leave A alone in its eps-ball (a needle): the finger's patch is the
   // finger's size, so the ball grows until it holds the points an eps-ball holds on the
   // undeformed model (up to 4 eps).
@@ -191,7 +191,7 @@ std::size_t Deformer::add_neighbourhood(const Vec3& centre, const Vec3& displace
     ++r.guards.patch_widened;
     for (int k = 0; k < 4 && neighbours_.size() < min_patch_points_; ++k) {
       radius *= std::sqrt(2.0);
-      index_.within_radius(model_, centre, radius, neighbours_, drift_);
+      probe_balls_.within_radius(model_, index_, drift_, centre, radius, neighbours_);
     }
   }
   // Beyond the cap, keep every k-th point (k = size / cap, fractional): an even thinning of the
@@ -262,7 +262,7 @@ Vec3 Deformer::outward(std::uint32_t point) const noexcept {
 }
 
 Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, const Vec3& force, std::uint32_t nearest,
-                            double clearance, bool& moved) const noexcept {
+                            double clearance, bool& moved) noexcept {
   moved = false;
   // How alone a source at p stands: its nearest model point's distance over the distance it
   // must keep (>= 1: clear). Beyond the clearance, no model point may sit much closer to the
@@ -271,7 +271,7 @@ Vec3 Deformer::clear_source(const Vec3& candidate, const Vec3& contact, const Ve
   // Float positions: a source exactly at the clearance may measure a hair closer.
   auto aloneness = [&](const Vec3& p) {
     const double needed = std::max(clearance, kSourceAloneRatio * norm(p - contact));
-    return index_.nearest(model_, p, drift_, nearest).distance / (needed * (1.0 - 1e-6));
+    return probe_balls_.nearest(model_, index_, drift_, p, nearest).distance / (needed * (1.0 - 1e-6));
   };
   if (aloneness(candidate) >= 1.0) return candidate;
   // MATH.md §4 and §6: a source next to any model point makes that point's displacement

@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "sculpt/deform/contact.hpp"
+#include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/generators.hpp"
+#include "sphere_settings.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -266,6 +268,46 @@ TEST(BallCache, ProbeBallsLocateAsTheIndexAloneDoesThroughAStroke) {
   EXPECT_GE(ties, 3);
   EXPECT_GT(balls.hits(), 100u);  // nearest and the side's ball, most frames (138)
   EXPECT_GT(balls.wider(), 3u);
+}
+
+// The balls change nothing a frame computes: three fingers glide over a sphere, pressing deeper
+// (region and probe balls kept), beside the same stroke on a deformer whose index is rebuilt
+// before every frame, which forgets every ball, so that all its queries go to the tree. Every
+// frame leaves both models equal to the bit.
+TEST(BallCache, AStrokeWithKeptBallsMovesEveryPointAsOneWithoutThem) {
+  const PointModel original = make_sphere(20000);
+  PointModel kept = original, fresh = original;
+  const DeformSettings settings = frames::sphere_settings(0.05, 0.01, 0.4);
+  Deformer with_balls(kept, settings), without(fresh, settings);
+  std::vector<ProbeMotion> motions(3);
+  std::vector<Vec3> last(3);
+  for (std::size_t f = 0; f < 3; ++f) {
+    const double a = 0.8 * static_cast<double>(f);
+    last[f] = Vec3{0.3 * std::cos(a), 0.3 * std::sin(a), 1.0} * 1.02;
+  }
+  std::size_t pressed = 0;
+  for (int frame = 0; frame < 40; ++frame) {
+    for (std::size_t f = 0; f < 3; ++f) {
+      const double a = 0.8 * static_cast<double>(f) + 0.004 * frame;
+      const Vec3 target = normalized(Vec3{0.3 * std::cos(a), 0.3 * std::sin(a), 1.0}) * (0.99 - 0.0005 * frame);
+      motions[f] = ProbeMotion{last[f], target, std::nullopt};
+    }
+    without.rebuild_index();
+    const FrameReport& r = with_balls.deform(motions);
+    const std::size_t collisions = r.collisions;
+    const FrameReport& s = without.deform(motions);
+    SCOPED_TRACE(::testing::Message() << "frame " << frame);
+    EXPECT_EQ(collisions, s.collisions);
+    pressed += collisions;
+    ASSERT_EQ(kept.x, fresh.x);
+    ASSERT_EQ(kept.y, fresh.y);
+    ASSERT_EQ(kept.z, fresh.z);
+    ASSERT_EQ(kept.nz, fresh.nz);
+    for (std::size_t f = 0; f < 3; ++f) last[f] = r.contacts[f].probe_after;
+  }
+  EXPECT_GT(pressed, 100u);                      // most fingers press most frames (every one, 120, when written)
+  EXPECT_GT(with_balls.kept_ball_hits(), 500u);  // 1,340 when written
+  EXPECT_EQ(without.kept_ball_hits(), 0u);
 }
 
 }  // namespace

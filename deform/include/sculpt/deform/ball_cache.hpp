@@ -50,7 +50,7 @@ class BallCache {
   /// Writes into `out` (cleared first; within its capacity, never grown) the points of `model`
   /// within `radius` of `c` at their current positions, squared distance <= radius * radius as
   /// PointIndex::within_radius compares it, in the order set at construction: from a kept ball when one
-  /// still covers this ball; else, when the frame before asked for a ball near this one (a
+  /// still covers this ball; else, when one of the last few frames asked for a ball near this one (a
   /// stroke), from a wider query of `index` (with `drift`, as PointIndex::within_radius) whose
   /// result is kept when it fits; else (a finger that just came down, or one moving too fast
   /// for a ball to last) from a plain query, so that a single press pays nothing for the
@@ -86,7 +86,8 @@ class BallCache {
     bool used = false;  // asked for since the last end_frame()
   };
   const Ball* covering(const Vec3& c, double radius) const noexcept;
-  // Whether the frame before asked for a ball whose centre lies within `reach` of c.
+  // Whether one of the last kRecentFrames frames (not this one) asked for a ball whose centre
+  // lies within `reach` of c.
   bool asked_before_near(const Vec3& c, double reach) const noexcept;
   // Makes room for `count` candidates at the pool's end, dropping the balls not used this
   // frame and moving the others to the front; false when there is no such room even then.
@@ -97,9 +98,17 @@ class BallCache {
   std::size_t ball_count_ = 0;
   double margin_ = kRegionMargin;
   bool ascending_ = false;
-  // The centres this frame's queries asked for, and the frame before's.
-  std::array<Vec3, kMaxBalls> asked_{}, asked_before_{};
-  std::size_t asked_count_ = 0, asked_before_count_ = 0;
+  // The centres the latest queries asked for, each with its frame, the oldest overwritten.
+  // A few frames, not one: a finger that presses every other frame (guarded in between, as
+  // the dragon's glide has some) is still in a stroke.
+  static constexpr std::uint64_t kRecentFrames = 4;
+  struct Asked {
+    Vec3 centre;
+    std::uint64_t frame = 0;
+  };
+  std::array<Asked, 4 * kMaxBalls> asked_{};
+  std::size_t asked_count_ = 0, asked_next_ = 0;
+  std::uint64_t frame_ = 0;  // end_frame() calls
   std::size_t hits_ = 0, wider_ = 0, plain_ = 0;
 };
 

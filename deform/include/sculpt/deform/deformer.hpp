@@ -183,6 +183,9 @@ class Deformer {
   /// the index is rebuilt. Throws std::invalid_argument when `base` has another size or layout.
   void restore(const PointModel& base);
   const PointIndex& index() const { return index_; }
+  /// Queries answered from balls kept across frames (the region's and the probes'), since
+  /// construction: how much a stroke used them.
+  std::size_t kept_ball_hits() const noexcept { return region_.balls().hits() + probe_balls_.hits(); }
   /// Changes the radius of a kRadius region between frames (the loop sizes it to its budget).
   /// Clamped to the smallest radius the region accepts; returns the radius in force.
   double set_region_radius(double radius) noexcept;
@@ -204,7 +207,7 @@ class Deformer {
   bool probe_usable(const ProbeMotion& motion) const noexcept;
   Vec3 outward(std::uint32_t point) const noexcept;
   Vec3 clear_source(const Vec3& candidate, const Vec3& contact, const Vec3& force, std::uint32_t nearest,
-                    double clearance, bool& moved) const noexcept;
+                    double clearance, bool& moved) noexcept;
   std::size_t add_neighbourhood(const Vec3& centre, const Vec3& displacement, bool record, bool widen,
                                 FrameReport& r) noexcept;
   double field_magnitude_max(std::span<const std::uint32_t> points) const noexcept;
@@ -243,9 +246,9 @@ class Deformer {
   std::vector<DisplacementCondition> conditions_;
   std::vector<Vec3> contact_points_;
   std::vector<std::uint32_t> neighbours_;
-  std::vector<std::uint32_t> side_neighbours_;        // locate()'s scratch, reserved for the whole model
-  double side_smoothing_ = 0.0;                       // locate()'s h (side_smoothing)
-  BallCache probe_balls_;                             // locate()'s balls, kept across a stroke's frames
+  std::vector<std::uint32_t> side_neighbours_;  // locate()'s scratch, reserved for the whole model
+  double side_smoothing_ = 0.0;                 // locate()'s h (side_smoothing)
+  BallCache probe_balls_;  // the probes' small balls (locate, the bc patch, the source's clearance), kept across frames
   std::vector<std::uint32_t> contact_neighbourhood_;  // every contact's bc points, contact by contact
   std::vector<std::size_t> neighbourhood_begin_;      // where each probe's points start in it
   std::vector<double> patch_area_scale_;              // per probe: patch points before thinning / after
