@@ -39,12 +39,15 @@ const BallCache::Ball* BallCache::covering(const Vec3& c, double radius) const n
   // the ball was found. The relative margin stands far above the rounding of these distances
   // (and of the moves' running sum), so that the candidates hold every point the tree's query
   // would find, whatever the rounding.
+  // Of the balls that cover it, the one with the fewest candidates to test.
   constexpr double kSlack = 1.0 + 1e-9;
+  const Ball* best = nullptr;
   for (std::size_t b = 0; b < ball_count_; ++b) {
     const Ball& ball = balls_[b];
-    if ((radius + norm(c - ball.centre) + ball.moved) * kSlack <= ball.radius) return &ball;
+    if (!((radius + norm(c - ball.centre) + ball.moved) * kSlack <= ball.radius)) continue;
+    if (best == nullptr || ball.count < best->count) best = &ball;
   }
-  return nullptr;
+  return best;
 }
 
 bool BallCache::make_room(std::size_t count) noexcept {

@@ -166,10 +166,10 @@ TEST(BallCache, MoreBallsThanItKeepsOrMoreCandidatesThanItHoldsStillAnswerExactl
   const PointIndex index(model);
   std::vector<std::uint32_t> out;
   out.reserve(model.size());
-  // Twenty fingers in one frame, more balls than it keeps, asked three times.
+  // Forty fingers in one frame, more balls than it keeps (32), asked three times.
   BallCache balls(model.size(), BallCache::kRegionMargin, false);
   std::vector<Vec3> contacts;
-  for (int k = 0; k < 20; ++k) contacts.push_back(model.position(static_cast<std::size_t>(k) * 397));
+  for (int k = 0; k < 40; ++k) contacts.push_back(model.position(static_cast<std::size_t>(k) * 197));
   for (int round = 0; round < 3; ++round) {
     for (const Vec3& c : contacts) {
       balls.within_radius(model, index, 0.0, c, 0.25, out);

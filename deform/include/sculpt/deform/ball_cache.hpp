@@ -76,7 +76,9 @@ class BallCache {
   std::size_t plain() const noexcept { return plain_; }
 
  private:
-  static constexpr std::size_t kMaxBalls = 16;
+  // A frame of ten fingers uses up to three balls each in the probes' cache (the side's ball
+  // before and after the move, the bc patch).
+  static constexpr std::size_t kMaxBalls = 32;
   struct Ball {
     Vec3 centre;
     double radius = 0.0;    // every point within it of centre when it was found is a candidate
@@ -106,7 +108,7 @@ class BallCache {
     Vec3 centre;
     std::uint64_t frame = 0;
   };
-  std::array<Asked, 4 * kMaxBalls> asked_{};
+  std::array<Asked, kRecentFrames * kMaxBalls> asked_{};
   std::size_t asked_count_ = 0, asked_next_ = 0;
   std::uint64_t frame_ = 0;  // end_frame() calls
   std::size_t hits_ = 0, wider_ = 0, plain_ = 0;
