@@ -88,77 +88,77 @@ TEST(BallCache, AStrokesBallsAreTheBruteForceSetsWhileTheFingersSlideAndThePoint
 // A 5,000-point sphere, its index and a cache, asked for balls of 0.3 near its pole.
 class BallCacheOnASphere : public ::testing::Test {
  protected:
-  BallCacheOnASphere() { out.reserve(model.size()); }
-  PointModel model = make_sphere(5000);
-  const PointIndex index{model};
-  BallCache balls{model.size(), BallCache::kRegionMargin, false};
-  std::vector<std::uint32_t> out;
-  const double radius = 0.3;
-  const double margin = radius * BallCache::kRegionMargin;
-  const Vec3 c{0.0, 0.0, 1.0};
+  BallCacheOnASphere() { out_.reserve(model_.size()); }
+  PointModel model_ = make_sphere(5000);
+  const PointIndex index_{model_};
+  BallCache balls_{model_.size(), BallCache::kRegionMargin, false};
+  std::vector<std::uint32_t> out_;
+  const double radius_ = 0.3;
+  const double margin_ = radius_ * BallCache::kRegionMargin;
+  const Vec3 c_{0.0, 0.0, 1.0};
 };
 
 TEST_F(BallCacheOnASphere, ABallIsKeptInAStrokeAndLeftOnceTheFingerOrThePointsMayHaveLeftIt) {
   const auto frame = [&](const Vec3& at) {
-    balls.within_radius(model, index, 0.0, at, radius, out);
-    EXPECT_EQ(sorted(out), brute_force(model, at, radius));
-    balls.end_frame();
+    balls_.within_radius(model_, index_, 0.0, at, radius_, out_);
+    EXPECT_EQ(sorted(out_), brute_force(model_, at, radius_));
+    balls_.end_frame();
   };
   // A finger coming down: a plain query, nothing kept (a single press pays nothing more).
-  frame(c);
-  EXPECT_EQ(balls.plain(), 1u);
-  EXPECT_EQ(balls.wider(), 0u);
+  frame(c_);
+  EXPECT_EQ(balls_.plain(), 1u);
+  EXPECT_EQ(balls_.wider(), 0u);
   // The next frame near it: a stroke, so a wider ball is found and kept.
-  const Vec3 c1 = c + Vec3{0.1 * margin, 0.0, 0.0};
+  const Vec3 c1 = c_ + Vec3{0.1 * margin_, 0.0, 0.0};
   frame(c1);
-  EXPECT_EQ(balls.wider(), 1u);
+  EXPECT_EQ(balls_.wider(), 1u);
   // A finger that moved half the margin since is still covered.
-  frame(c1 + Vec3{0.5 * margin, 0.0, 0.0});
-  EXPECT_EQ(balls.hits(), 1u);
+  frame(c1 + Vec3{0.5 * margin_, 0.0, 0.0});
+  EXPECT_EQ(balls_.hits(), 1u);
   // Points told to have moved half the margin leave a finger that moved half of it uncovered.
-  balls.add_move(0.5 * margin);
-  frame(c1 + Vec3{0.0, 0.51 * margin, 0.0});
-  EXPECT_EQ(balls.hits(), 1u);
-  EXPECT_EQ(balls.wider(), 2u);
+  balls_.add_move(0.5 * margin_);
+  frame(c1 + Vec3{0.0, 0.51 * margin_, 0.0});
+  EXPECT_EQ(balls_.hits(), 1u);
+  EXPECT_EQ(balls_.wider(), 2u);
   // Back where the first ball was found, moved half the margin: covered.
   frame(c1);
-  EXPECT_EQ(balls.hits(), 2u);
+  EXPECT_EQ(balls_.hits(), 2u);
   // A move that is not a number forgets every ball and every finger: a press again.
-  balls.add_move(std::numeric_limits<double>::quiet_NaN());
+  balls_.add_move(std::numeric_limits<double>::quiet_NaN());
   frame(c1);
-  EXPECT_EQ(balls.plain(), 2u);
+  EXPECT_EQ(balls_.plain(), 2u);
   frame(c1);
-  EXPECT_EQ(balls.wider(), 3u);
+  EXPECT_EQ(balls_.wider(), 3u);
   frame(c1);
-  EXPECT_EQ(balls.hits(), 3u);
+  EXPECT_EQ(balls_.hits(), 3u);
   // And so does forget().
-  balls.forget();
+  balls_.forget();
   frame(c1);
-  EXPECT_EQ(balls.plain(), 3u);
-  EXPECT_EQ(balls.hits(), 3u);
+  EXPECT_EQ(balls_.plain(), 3u);
+  EXPECT_EQ(balls_.hits(), 3u);
   // A finger jumping farther than the margin every frame never pays for a wider ball.
-  for (int k = 1; k <= 6; ++k) frame(c1 + Vec3{0.0, 1.5 * margin * k, 0.0});
-  EXPECT_EQ(balls.plain(), 9u);
-  EXPECT_EQ(balls.wider(), 3u);
+  for (int k = 1; k <= 6; ++k) frame(c1 + Vec3{0.0, 1.5 * margin_ * k, 0.0});
+  EXPECT_EQ(balls_.plain(), 9u);
+  EXPECT_EQ(balls_.wider(), 3u);
 }
 
 TEST_F(BallCacheOnASphere, PointsThatMovedIntoAKeptBallAreFoundWhereTheyAreNow) {
   for (int k = 0; k < 2; ++k) {
-    balls.within_radius(model, index, 0.0, c, radius, out);
-    balls.end_frame();
+    balls_.within_radius(model_, index_, 0.0, c_, radius_, out_);
+    balls_.end_frame();
   }
-  ASSERT_EQ(balls.wider(), 1u);
+  ASSERT_EQ(balls_.wider(), 1u);
   // A press sinks the points under the finger by about half the margin, and the finger follows
   // them down: the points that came within its ball are found in the kept one.
-  const double moved = press(model, c, 0.5 * margin, 2.0 * radius);
-  ASSERT_GT(moved, 0.4 * margin);
-  balls.add_move(moved);
-  const Vec3 lower = c - Vec3{0.0, 0.0, 0.4 * margin};
-  const std::vector<std::uint32_t> now = brute_force(model, lower, radius);
-  ASSERT_NE(now, brute_force(make_sphere(5000), lower, radius));  // the press changed the answer
-  balls.within_radius(model, index, moved, lower, radius, out);
-  EXPECT_EQ(balls.hits(), 1u);
-  EXPECT_EQ(sorted(out), now);
+  const double moved = press(model_, c_, 0.5 * margin_, 2.0 * radius_);
+  ASSERT_GT(moved, 0.4 * margin_);
+  balls_.add_move(moved);
+  const Vec3 lower = c_ - Vec3{0.0, 0.0, 0.4 * margin_};
+  const std::vector<std::uint32_t> now = brute_force(model_, lower, radius_);
+  ASSERT_NE(now, brute_force(make_sphere(5000), lower, radius_));  // the press changed the answer
+  balls_.within_radius(model_, index_, moved, lower, radius_, out_);
+  EXPECT_EQ(balls_.hits(), 1u);
+  EXPECT_EQ(sorted(out_), now);
 }
 
 TEST(BallCache, MoreBallsThanItKeepsOrMoreCandidatesThanItHoldsStillAnswerExactly) {
