@@ -56,9 +56,12 @@ bool BallCache::make_room(std::size_t count) noexcept {
   for (std::size_t b = 0; b < ball_count_; ++b) {
     Ball ball = balls_[b];
     if (!ball.used) continue;
-    std::copy(pool_.begin() + static_cast<std::ptrdiff_t>(ball.begin),
-              pool_.begin() + static_cast<std::ptrdiff_t>(ball.begin + ball.count),
-              pool_.begin() + static_cast<std::ptrdiff_t>(end));
+    // Moved towards the front (std::copy may not write where it reads from: a ball in place stays).
+    if (ball.begin != end) {
+      std::copy(pool_.begin() + static_cast<std::ptrdiff_t>(ball.begin),
+                pool_.begin() + static_cast<std::ptrdiff_t>(ball.begin + ball.count),
+                pool_.begin() + static_cast<std::ptrdiff_t>(end));
+    }
     ball.begin = end;
     end += ball.count;
     balls_[kept++] = ball;
