@@ -2,10 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "moved_overlay.hpp"
 
 namespace sculpt::deform {
+
+namespace {
+
+// Passes to keep every candidate within the radius of q at its current position, by the tree's
+// own comparison; keep may write over the candidate it was just given.
+template <typename Keep>
+void for_each_within(const PointModel& model, std::span<const std::uint32_t> candidates, const double (&q)[3],
+                     double radius_squared, Keep&& keep) noexcept {
+  for (const std::uint32_t i : candidates) {
+    if (current_squared_distance(model, i, q) <= radius_squared) keep(i);
+  }
+}
+
+}  // namespace
 
 BallCache::BallCache(std::size_t capacity, double margin, bool ascending) : margin_(margin), ascending_(ascending) {
   pool_.reserve(capacity);
@@ -75,9 +90,9 @@ bool BallCache::within_radius(const PointModel& model, const PointIndex& index, 
                               double radius, std::vector<std::uint32_t>& out) noexcept {
   const double q[3] = {c.x, c.y, c.z};
   const double radius_squared = radius * radius;
-  const auto plain = [&] { return index.within_radius(model, c, radius, out, drift, ascending_); };
+  const auto ask_index = [&] { return index.within_radius(model, c, radius, out, drift, ascending_); };
   if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !(radius >= 0.0) || !std::isfinite(radius)) {
-    return plain();  // nothing worth keeping
+    return ask_index();  // nothing worth keeping
   }
   asked_[asked_next_] = Asked{c, frame_};
   asked_next_ = (asked_next_ + 1) % asked_.size();
@@ -87,17 +102,15 @@ bool BallCache::within_radius(const PointModel& model, const PointIndex& index, 
     const double wider = radius * (1.0 + margin_);
     if (!asked_before_near(c, wider - radius)) {
       ++plain_;
-      return plain();
+      return ask_index();
     }
     ++wider_;
     // Not every candidate fitted, or no room to keep them: the plain query answers exactly.
-    if (!index.within_radius(model, c, wider, out, drift, /*ascending=*/false)) return plain();
+    if (!index.within_radius(model, c, wider, out, drift, /*ascending=*/false)) return ask_index();
     if (!make_room(out.size())) {
       // No room to keep them: this frame's answer from the candidates alone, in place.
       std::size_t kept = 0;
-      for (const std::uint32_t i : out) {
-        if (current_squared_distance(model, i, q) <= radius_squared) out[kept++] = i;
-      }
+      for_each_within(model, out, q, radius_squared, [&](std::uint32_t i) { out[kept++] = i; });
       out.resize(kept);
       if (ascending_) std::sort(out.begin(), out.end());
       return true;
@@ -113,29 +126,26 @@ bool BallCache::within_radius(const PointModel& model, const PointIndex& index, 
   }
   balls_[static_cast<std::size_t>(ball - balls_.data())].used = true;
   out.clear();
-  const std::uint32_t* candidates = pool_.data() + ball->begin;
   bool complete = true;
-  for (std::size_t k = 0; k < ball->count; ++k) {
-    const std::uint32_t i = candidates[k];
-    if (!(current_squared_distance(model, i, q) <= radius_squared)) continue;
+  for_each_within(model, {pool_.data() + ball->begin, ball->count}, q, radius_squared, [&](std::uint32_t i) {
     if (out.size() < out.capacity()) {
       out.push_back(i);
     } else {
       complete = false;
     }
-  }
+  });
   return complete;
 }
 
 PointIndex::Nearest BallCache::nearest(const PointModel& model, const PointIndex& index, double drift, const Vec3& q,
                                        std::uint32_t hint) noexcept {
-  const auto plain = [&] { return index.nearest(model, q, drift, hint); };
-  if (hint >= model.size() || !index.indexes(model) || !is_finite(q)) return plain();
+  const auto ask_index = [&] { return index.nearest(model, q, drift, hint); };
+  if (hint >= model.size() || !index.indexes(model) || !is_finite(q)) return ask_index();
   const double query[3] = {q.x, q.y, q.z};
   // The nearest point is no farther than the hint: every point that close is in a covering ball.
   const double hint_squared = current_squared_distance(model, hint, query);
   const Ball* ball = covering(q, std::sqrt(hint_squared));
-  if (ball == nullptr) return plain();
+  if (ball == nullptr) return ask_index();
   ++hits_;
   balls_[static_cast<std::size_t>(ball - balls_.data())].used = true;
   std::uint32_t best = hint;
