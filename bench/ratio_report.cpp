@@ -42,7 +42,7 @@ void RatioReporter::ReportRuns(const std::vector<Run>& runs) {
     Result& r = it->second;
     r.cpu_ms = to_ms(run.GetAdjustedCPUTime(), run.time_unit);
     r.real_ms = to_ms(run.GetAdjustedRealTime(), run.time_unit);
-    r.threaded = name.find("threads") != std::string::npos;
+    r.wall = !run.run_name.time_type.empty();  // "manual_time" or "real_time"
     r.points = counter(run, "points");
     r.bytes_per_point = counter(run, "bytes/point");
     r.from_median = median;
@@ -52,9 +52,10 @@ void RatioReporter::ReportRuns(const std::vector<Run>& runs) {
 void RatioReporter::Finalize() {
   ConsoleReporter::Finalize();
   std::printf(
-      "\nRatios in this run (CPU time, wall time for a frame on more than one thread; T = the bare\n"
-      "five-source Kelvin pass on one core on as many points, S = one streaming pass over the\n"
-      "positions; T(100k) = the same pass on 100,250 points, the issue's yardstick for every model size):\n");
+      "\nRatios in this run (a frame's wall time, the deformer's call alone, over the yardstick's; T =\n"
+      "the bare five-source Kelvin pass on one core on as many points, S = one streaming pass over\n"
+      "the positions; T(100k) = the same pass on 100,250 points, the issue's yardstick for every\n"
+      "model size):\n");
   std::printf("%-52s %10s %9s %10s %9s %12s\n", "frame", "ms", "x T", "x T(100k)", "x S", "bytes/point");
   const auto bare_100k = results_.find(bare_name(100250));
   bool missing = false;
@@ -63,7 +64,7 @@ void RatioReporter::Finalize() {
     if (!(r.points > 0.0)) continue;  // a yardstick itself
     const auto n = static_cast<std::size_t>(std::llround(r.points));
     const auto bare = results_.find(bare_name(n)), stream = results_.find(stream_name(n));
-    const double ms = r.threaded ? r.real_ms : r.cpu_ms;
+    const double ms = r.wall ? r.real_ms : r.cpu_ms;
     // A yardstick the filter left out leaves its column empty ("-"), said below the table.
     auto ratio = [&](const auto& it, int width, int decimals) {
       char cell[32];
@@ -72,7 +73,7 @@ void RatioReporter::Finalize() {
         std::snprintf(cell, sizeof cell, "%*s", width, "-");
       } else {
         std::snprintf(cell, sizeof cell, "%*.*f", width, decimals,
-                      ms / (r.threaded ? it->second.real_ms : it->second.cpu_ms));
+                      ms / (r.wall ? it->second.real_ms : it->second.cpu_ms));
       }
       return std::string(cell);
     };

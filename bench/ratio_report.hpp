@@ -20,7 +20,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
   struct Result {
     double cpu_ms = 0.0;
     double real_ms = 0.0;
-    bool threaded = false;  // timed by the wall clock (its CPU time is one thread's)
+    bool wall = false;  // timed by the wall clock (frames: by hand; their CPU time counts untimed work)
     double points = 0.0;
     double bytes_per_point = 0.0;
     bool from_median = false;

@@ -10,7 +10,8 @@ take turns going first), never by one run of each.
 
 Copy the binaries out of the build tree first (cp build/bench/deform_bench /tmp/bench_new):
 the two must not change under the rounds. Prints each benchmark's ratio per round for both,
-their medians and the change, and the CPU-time medians in microseconds.
+their medians and the change, and the time medians in microseconds (wall time for rows timed by
+the wall clock, CPU time for the rest).
 """
 
 import argparse
@@ -24,8 +25,15 @@ import tempfile
 YARDSTICK = "Bare5/100250"
 
 
+WALL_SUFFIXES = ("/manual_time", "/real_time")
+
+
 def run(binary, pattern, repetitions, min_time):
-    """One run: {benchmark name: median CPU time in microseconds}, the yardstick included."""
+    """One run: {benchmark name: (median time in microseconds, over the yardstick's)}.
+
+    A row timed by the wall clock (deform_bench's frames: by hand, or on two threads) is over the
+    yardstick's wall time, any other over its CPU time. Names lose the time-type suffix, so that
+    binaries from before and after the frames were timed by hand compare."""
     with tempfile.NamedTemporaryFile(suffix=".json") as out:
         command = [
             binary,
@@ -42,16 +50,25 @@ def run(binary, pattern, repetitions, min_time):
             sys.exit(f"bench_ab: {binary} failed ({done.returncode}): {done.stderr.strip()[:400]}")
         report = json.load(out)
     scale = {"ns": 1e-3, "us": 1.0, "ms": 1e3, "s": 1e6}
-    medians = {}
+    medians = {}  # name: (cpu, real, wall)
     for b in report["benchmarks"]:
         # A row that skipped itself (a scan not fetched, a finger that missed) has no aggregates.
         if b.get("error_occurred"):
             sys.exit(f"bench_ab: {binary}: {b['run_name']}: {b.get('error_message', 'error')}")
         if b.get("aggregate_name") == "median":
-            medians[b["run_name"]] = b["cpu_time"] * scale[b["time_unit"]]
+            name, wall = b["run_name"], False
+            for suffix in WALL_SUFFIXES:
+                if name.endswith(suffix):
+                    name, wall = name[: -len(suffix)], True
+            unit = scale[b["time_unit"]]
+            medians[name] = (b["cpu_time"] * unit, b["real_time"] * unit, wall)
     if YARDSTICK not in medians:
         sys.exit(f"bench_ab: {binary} ran no {YARDSTICK}")
-    return medians
+    t_cpu, t_real, _ = medians[YARDSTICK]
+    return {
+        name: ((real if wall else cpu), (real / t_real if wall else cpu / t_cpu))
+        for name, (cpu, real, wall) in medians.items()
+    }
 
 
 def main():
@@ -79,16 +96,16 @@ def main():
     names = [n for n in runs["old"][0] if n != YARDSTICK and all(n in m for m in runs["old"] + runs["new"])]
     if not names:
         sys.exit("bench_ab: the pattern matched no benchmark that both binaries ran")
-    t = {w: [m[YARDSTICK] for m in runs[w]] for w in runs}
+    t = {w: [m[YARDSTICK][0] for m in runs[w]] for w in runs}
     print(f"T = {YARDSTICK}, CPU time: old {' '.join(f'{x:.0f}' for x in t['old'])} us, "
           f"new {' '.join(f'{x:.0f}' for x in t['new'])} us")
     print("| benchmark | old / T per round | new / T per round | old median | new median | change | "
           "old us | new us |")
     print("| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |")
     for n in names:
-        ratio = {w: [m[n] / m[YARDSTICK] for m in runs[w]] for w in runs}
+        ratio = {w: [m[n][1] for m in runs[w]] for w in runs}
         old, new = statistics.median(ratio["old"]), statistics.median(ratio["new"])
-        micro = {w: statistics.median(m[n] for m in runs[w]) for w in runs}
+        micro = {w: statistics.median(m[n][0] for m in runs[w]) for w in runs}
         print(f"| {n} | {' '.join(f'{x:.3f}' for x in ratio['old'])} | {' '.join(f'{x:.3f}' for x in ratio['new'])} "
               f"| {old:.3f} T | {new:.3f} T | {100 * (new / old - 1):+.1f} % | {micro['old']:.1f} | {micro['new']:.1f} |")
 
