@@ -184,7 +184,6 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
 // frame before left them.
 void stroke(benchmark::State& state, const std::string& name, double region_spacings, double step = 0.5,
             int frames_per_stroke = 16) {
-  const int kStrokeFrames = frames_per_stroke;
   const PointModel* source = load(name);
   if (!source) {
     state.SkipWithError(("data/scans/" + file_of(name) + " missing: run scripts/fetch_scans.sh").c_str());
@@ -208,10 +207,10 @@ void stroke(benchmark::State& state, const std::string& name, double region_spac
   std::vector<ProbeMotion> motions(fingers);
   std::vector<Vec3> accepted(fingers);
   std::vector<std::optional<Vec3>> earlier(fingers);
-  int k = kStrokeFrames;
+  int k = frames_per_stroke;
   std::size_t frames = 0, collisions = 0, moved = 0, applied = 0;
   for (auto _ : state) {
-    if (k == kStrokeFrames) {
+    if (k == frames_per_stroke) {
       deformer.restore(*source);  // untimed
       for (std::size_t f = 0; f < fingers; ++f) {
         accepted[f] = at[f] + out[f] * (2.0 * spacing);
