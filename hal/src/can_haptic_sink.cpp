@@ -4,6 +4,7 @@
 
 #include <linux/can.h>
 #include <net/if.h>
+#include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -67,9 +68,12 @@ bool CanHapticSink::write_command(const HapticCommand& command) noexcept {
     raw.len = f.len;
     std::memcpy(raw.data, f.data.data(), f.len);
     const std::size_t mtu = f.fd ? CANFD_MTU : CAN_MTU;  // a classic can_frame is the FD one's prefix
+    // Never waits: a bus that does not drain (bus-off, an unplugged cable with a long transmit
+    // queue) would otherwise hold this thread in write(), and stop() with it. A full queue
+    // (EAGAIN, ENOBUFS) drops the command, counted, and the next newest one tries again.
     ssize_t w;
     do {
-      w = ::write(socket_, &raw, mtu);
+      w = ::send(socket_, &raw, mtu, MSG_DONTWAIT);
     } while (w < 0 && errno == EINTR);
     // A half-sent command is broken on the wire; the receiver's decoder counts it.
     if (w != static_cast<ssize_t>(mtu)) {
