@@ -97,6 +97,10 @@ class DeformCommand final : public Command {
     sub_->add_option("--border-weight", border_weight_, "With --region: weight of its pinned band against a contact")
         ->default_val(1.0)
         ->needs(region_option_);
+    sub_->add_flag("--strict-region", strict_region_,
+                   "With --region: move only its points even where it holds so much of the model that the global "
+                   "frame would cost less (by default such a frame moves every point)")
+        ->needs(region_option_);
     reference_option_ = sub_->add_option("--reference", reference_text_,
                                          "X,Y,Z point known to be outside (for models without normals)");
     CLI::Option* double_flag =
@@ -231,6 +235,7 @@ class DeformCommand final : public Command {
       settings.region.radius = region_radius_;
     }
     settings.region.border_weight = border_weight_;
+    settings.region.global_when_cheaper = !strict_region_;
     settings.traction = model.has_normals();
     check_against_model(settings, probes, model);
     contact.mode = choose_mode(model, probes, contact);
@@ -397,6 +402,7 @@ class DeformCommand final : public Command {
             {"contacts", contacts},
             {"solve", solve},
             {"points_moved", r.region_points},
+            {"global_frame", r.global},
             {"border_points", r.border_points},
             {"displacement_conditions", r.displacement_conditions},
             {"max_displacement", r.max_displacement},
@@ -483,6 +489,7 @@ class DeformCommand final : public Command {
   double eps_reg_ = 0.0, bc_radius_ = 0.0, delta_d_ = 0.0, delta_r_ = 0.0, region_radius_ = 0.0;
   double border_weight_ = 1.0;
   bool use_double_ = false;
+  bool strict_region_ = false;
   BadNormalsOption bad_normals_;
   CLI::Option *eps_reg_option_ = nullptr, *bc_option_ = nullptr, *dd_option_ = nullptr, *dr_option_ = nullptr,
               *region_option_ = nullptr, *reference_option_ = nullptr, *encoding_option_ = nullptr;

@@ -344,6 +344,7 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   r.collisions = 0;
   r.solve = SolveReport{};
   r.region_points = r.border_points = r.displacement_conditions = 0;
+  r.global = false;
   r.max_displacement = r.max_contact_displacement = r.max_border_displacement = 0.0;
   r.min_jacobian = 1.0;
   r.max_miss = 0.0;
@@ -484,7 +485,8 @@ Deformer::Outcome Deformer::run_frame(std::span<const ProbeMotion> probes, Frame
   r.max_displacement = moved.max_displacement;
   r.normals_bounded = moved.gradients_skipped;
   r.max_normal_bound_angle = normal_bound_angle(moved.max_skipped_bound);
-  r.region_points = region_.global() ? model_.size() : region_.points().size();
+  r.global = region_.global();
+  r.region_points = r.global ? model_.size() : region_.points().size();
   r.border_points = band.size();
   const double drift_before = drift_;
   add_stored_move(r.max_displacement, drift_, extent_);
@@ -571,6 +573,7 @@ void Deformer::merge_step(std::size_t count) noexcept {
   m.guards = carried_;
   if (!last_applied) m.guards += last.guards;
   m.collisions = m.region_points = m.border_points = m.normals_bounded = 0;
+  m.global = false;
   m.max_displacement = m.max_contact_displacement = m.max_border_displacement = m.max_normal_bound_angle = 0.0;
   m.min_jacobian = applied_ > 0 ? 1.0 : last.min_jacobian;
   m.rejected = applied_ == 0 && last.rejected;
@@ -580,6 +583,7 @@ void Deformer::merge_step(std::size_t count) noexcept {
     m.collisions += f.collisions;
     m.region_points += f.region_points;
     m.border_points += f.border_points;
+    m.global = m.global || f.global;
     m.normals_bounded += f.normals_bounded;
     m.max_normal_bound_angle = std::max(m.max_normal_bound_angle, f.max_normal_bound_angle);
     m.max_displacement = std::max(m.max_displacement, f.max_displacement);

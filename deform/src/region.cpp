@@ -105,6 +105,7 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   as_found_.clear();
   as_found_complete_ = true;
   scanned_ = false;
+  cheaper_global_ = false;
   // Every point within radius - band of one contact: all move, none is in the band.
   const double inner = settings_.radius - border_width_;
   holds_model_ =
@@ -114,6 +115,13 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   balls_.end_frame();
   // The balls may hold every point after all (the box's corners lie beyond the model's points).
   holds_model_ = points_.size() == model.size() && border_.empty();
+  cheaper_global_ = !holds_model_ && settings_.global_when_cheaper && kRegionPointCost * points_.size() > model.size();
+  if (cheaper_global_) {  // every point moves, and no band is pinned
+    points_.clear();
+    border_.clear();
+    as_found_.clear();
+    as_found_complete_ = false;
+  }
 }
 
 void Region::collect(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts,
@@ -204,6 +212,14 @@ void Region::scan(const PointModel& model, std::span<const Vec3> contacts, doubl
       const auto i = static_cast<std::uint32_t>(begin + k);
       points_.push_back(i);
       if (!(nearest[k] <= inner_squared)) border_.push_back(i);
+    }
+    // Past the share that makes the frame global (build()), the rest of the scan could only
+    // add to it: the frame is global already. What the balls found is extrapolated from the
+    // points scanned, for scan_pays() to judge the next build by.
+    if (settings_.global_when_cheaper && kRegionPointCost * points_.size() > n) {
+      const double scanned = static_cast<double>(begin + count);
+      found_last_ = static_cast<std::size_t>(static_cast<double>(found_last_) * static_cast<double>(n) / scanned);
+      return;
     }
   }
 }

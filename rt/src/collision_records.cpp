@@ -13,7 +13,8 @@ logging::Vec3d to_array(const deform::Vec3& v) { return {v.x, v.y, v.z}; }
 logging::CollisionRecord contact_record(const deform::ContactReport& c, const FrameRecord& frame) noexcept {
   const deform::FrameReport& report = *frame.report;
   const deform::DeformSettings& settings = *frame.settings;
-  const bool radius = settings.region.kind == deform::RegionSettings::Kind::kRadius;
+  // A radius region that ran as the global frame moved every point: recorded as what it did.
+  const bool radius = settings.region.kind == deform::RegionSettings::Kind::kRadius && !report.global;
   const deform::Kernel& k = settings.kernel;
   logging::CollisionRecord r;
   r.tick = static_cast<std::int64_t>(frame.tick);

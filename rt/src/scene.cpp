@@ -113,7 +113,7 @@ void read_material_and_kernel(const Section& root, Scene& scene) {
 }
 
 void read_heuristic(const Section& root, Scene& scene) {
-  const Section s = root.table("heuristic", {"region", "budget_fraction", "reduced_ratio"});
+  const Section s = root.table("heuristic", {"region", "budget_fraction", "reduced_ratio", "strict_region"});
   auto& h = scene.heuristic;
   if (const toml::node* region = s.node("region")) {
     if (region->is_string()) {
@@ -134,6 +134,12 @@ void read_heuristic(const Section& root, Scene& scene) {
   }
   h.budget_fraction = s.number_in("budget_fraction", 0.0, true, 1.0, false).value_or(h.budget_fraction);
   h.reduced_ratio = s.number_in("reduced_ratio", 0.0, true, 1.0, false).value_or(h.reduced_ratio);
+  if (const auto strict = s.boolean("strict_region")) {
+    if (h.region == RegionChoice::kGlobal) {
+      s.fail("strict_region", "only used with a localised region (heuristic.region is 'global')");
+    }
+    h.strict_region = *strict;
+  }
 }
 
 void read_deform(const Section& root, Scene& scene) {

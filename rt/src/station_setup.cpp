@@ -139,6 +139,7 @@ StationSetup prepare_station(const Scene& scene) {
   d.field.normal_skip_bound = scene.deform.normal_skip_bound;
   d.field.fast_inverse_sqrt = scene.deform.fast_inverse_sqrt;
   d.region.border_weight = scene.deform.border_weight;
+  d.region.global_when_cheaper = !scene.heuristic.strict_region;
   switch (scene.heuristic.region) {
     case RegionChoice::kGlobal: st.region.kind = RegionPolicy::Kind::kGlobal; break;
     case RegionChoice::kRadius: st.region.kind = RegionPolicy::Kind::kRadius; break;

@@ -1,6 +1,8 @@
 // A radius region one of whose balls holds the whole model runs as the global frame: the same
 // points by the same bits, without the region's queries (the index's moved list, which only a
-// region frame keeps, shows which path ran); just short of that it is still a region; and the
+// region frame keeps, shows which path ran); so does one holding more than a sixth of the
+// model (the cheaper frame, RegionSettings::global_when_cheaper), and one of less stays a
+// region; just short of the whole model it is still a region when told to stay one; and the
 // radius a budget asks for stops where its ball holds everything, so it can shrink back.
 #include <gtest/gtest.h>
 
@@ -16,7 +18,11 @@
 namespace sculpt::deform {
 namespace {
 
-DeformSettings settings(double region_radius) { return frames::sphere_settings(0.08, 0.1, region_radius); }
+DeformSettings settings(double region_radius, bool global_when_cheaper = true) {
+  DeformSettings s = frames::sphere_settings(0.08, 0.1, region_radius);
+  s.region.global_when_cheaper = global_when_cheaper;
+  return s;
+}
 
 using test::same_bytes;
 
@@ -28,10 +34,10 @@ struct Stroke {
   bool list_kept = true;  // the index's moved list still complete after every frame
 };
 
-Stroke stroke(double region_radius) {
+Stroke stroke(double region_radius, bool global_when_cheaper = true) {
   const Vec3 centre{40.0, -7.0, 3.0};
   Stroke out{make_sphere(3203, 1.0, centre)};
-  Deformer deformer(out.model, settings(region_radius));
+  Deformer deformer(out.model, settings(region_radius, global_when_cheaper));
   const Vec3 tops[3] = {normalized(Vec3{0.0, 0.0, 1.0}), normalized(Vec3{0.6, 0.0, 0.8}),
                         normalized(Vec3{0.0, 0.6, 0.8})};
   for (int frame = 0; frame < 8; ++frame) {
@@ -65,11 +71,33 @@ TEST(RegionHoldsModel, ABallHoldingTheModelMovesItAsTheGlobalFrameDoes) {
   }
 }
 
-TEST(RegionHoldsModel, ABallJustShortOfTheModelIsStillARegion) {
+TEST(RegionHoldsModel, ABallJustShortOfTheModelIsStillARegionWhenToldToStayOne) {
   // From the top contact the far pole is 2 away: a ball of 1.9 leaves it out.
-  const Stroke region = stroke(1.9);
+  const Stroke region = stroke(1.9, /*global_when_cheaper=*/false);
   ASSERT_GT(region.collisions, 8u);
   EXPECT_LT(region.region_points, region.collisions / 3 * 3203);
+  EXPECT_GT(region.border_points, 0u);
+  EXPECT_TRUE(region.list_kept);
+}
+
+TEST(RegionHoldsModel, ARegionOfMoreThanASixthOfTheModelMovesItAsTheGlobalFrameDoes) {
+  const Stroke global = stroke(0.0);
+  // Balls of 1.2 (a cap of 1.2 chord holds 36 % of the sphere) and of 1.9: both the global frame.
+  for (const double radius : {1.2, 1.9}) {
+    const Stroke cheaper = stroke(radius);
+    EXPECT_EQ(cheaper.collisions, global.collisions);
+    EXPECT_EQ(cheaper.region_points, global.region_points);
+    EXPECT_EQ(cheaper.border_points, 0u);
+    EXPECT_FALSE(cheaper.list_kept);
+    for (const auto member :
+         {&PointModel::x, &PointModel::y, &PointModel::z, &PointModel::nx, &PointModel::ny, &PointModel::nz}) {
+      EXPECT_TRUE(same_bytes(cheaper.model.*member, global.model.*member)) << "radius " << radius;
+    }
+  }
+  // Balls of 0.3 (caps of 2.3 % each, three fingers) stay a region, band and all.
+  const Stroke region = stroke(0.3);
+  ASSERT_GT(region.collisions, 8u);
+  EXPECT_LT(6 * region.region_points, region.collisions / 3 * 3203);
   EXPECT_GT(region.border_points, 0u);
   EXPECT_TRUE(region.list_kept);
 }

@@ -93,6 +93,55 @@ TEST(Region, RadiusRegionIsTheUnionOfTheBallsInIndexOrder) {
             brute_force(model, pole_and_equator, 0.3, 0.3 - region.border_width()).points);
 }
 
+// A region whose balls find more than 1/kRegionPointCost of the model is run as the global
+// frame (RegionSettings::global_when_cheaper): every point, no band. Radii swept through that
+// share, two fingers: each build is global exactly when the brute-force union is over it
+// (whether the balls were queried or every point tested, a test that stops once past the share),
+// and a region otherwise, the brute-force union and band; told to stay local, never global.
+TEST(Region, MoreThanTheCheaperShareOfTheModelIsTheGlobalFrame) {
+  const PointModel model = make_sphere(5000);
+  const PointIndex index(model);
+  const std::vector<Vec3> contacts{model.position(10), model.position(2600)};
+  int global = 0, local = 0, scanned_global = 0;
+  for (const bool cheaper : {true, false}) {
+    RegionSettings settings;
+    settings.kind = RegionSettings::Kind::kRadius;
+    settings.radius = 0.1;
+    settings.global_when_cheaper = cheaper;
+    Region region(settings, model, index, 0.02);
+    for (double radius = 0.1; radius < 1.5; radius += 0.05) {
+      region.set_radius(radius);
+      region.build(model, index, 0.0, contacts);
+      const Expected e = brute_force(model, contacts, radius, radius - region.border_width());
+      const bool over = kRegionPointCost * e.points.size() > model.size();
+      ASSERT_EQ(region.global(), cheaper && over) << "radius " << radius << ", " << e.points.size() << " points";
+      if (region.global()) {
+        ++global;
+        scanned_global += region.scanned() ? 1 : 0;  // the scan stops once past the share
+        EXPECT_TRUE(region.points().empty());
+        EXPECT_TRUE(region.border().empty());
+      } else {
+        local += over ? 1 : 0;
+        EXPECT_EQ(std::vector<std::uint32_t>(region.points().begin(), region.points().end()), e.points);
+        EXPECT_EQ(std::vector<std::uint32_t>(region.border().begin(), region.border().end()), e.border);
+      }
+    }
+  }
+  EXPECT_GT(global, 5);      // the sweep crossed the share
+  EXPECT_EQ(local, global);  // the same radii stayed regions when told to
+  // A growing radius soon has every point tested; a region's first build queries its balls.
+  EXPECT_GT(scanned_global, 0);
+  RegionSettings wide;
+  wide.kind = RegionSettings::Kind::kRadius;
+  wide.radius = 1.2;
+  Region first(wide, model, index, 0.02);
+  first.build(model, index, 0.0, contacts);
+  ASSERT_GT(kRegionPointCost * brute_force(model, contacts, 1.2, 1.2 - first.border_width()).points.size(),
+            model.size());
+  EXPECT_TRUE(first.global());
+  EXPECT_FALSE(first.scanned());
+}
+
 // Balls that hold a large share of the model are cheaper to collect by testing every point
 // (Region::scan_pays, judged by what the last build found). A stroke that grows its radius
 // until the builds scan and shrinks it until they query again, with points moved under a drift
@@ -105,6 +154,7 @@ TEST(Region, BuildsThatScanEveryPointCollectWhatTheQueriesWould) {
   RegionSettings settings;
   settings.kind = RegionSettings::Kind::kRadius;
   settings.radius = 0.2;
+  settings.global_when_cheaper = false;  // the collection itself, which a cheaper global frame skips
   Region region(settings, model, index, 0.02);
   const double drift = 0.01;
   int scanned = 0, queried = 0;

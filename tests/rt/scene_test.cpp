@@ -147,6 +147,7 @@ TEST(Scene, DefaultsAreApplied) {
   EXPECT_EQ(s.heuristic.region, RegionChoice::kGlobal);
   EXPECT_DOUBLE_EQ(s.heuristic.budget_fraction, 0.6);
   EXPECT_DOUBLE_EQ(s.heuristic.reduced_ratio, 1.0);
+  EXPECT_FALSE(s.heuristic.strict_region);
   EXPECT_DOUBLE_EQ(s.glove.timeout_ms, 100.0);
   EXPECT_EQ(s.glove.config.queue_capacity, 1024u);
   EXPECT_EQ(s.glove.hands, (std::vector<std::uint8_t>{0}));
@@ -345,6 +346,7 @@ threads = 2
 region = 0.3
 budget_fraction = 0.5
 reduced_ratio = 0.25
+strict_region = true
 [glove]
 backend = "serial"
 timeout_ms = 40
@@ -392,6 +394,7 @@ flush_interval_ms = 20
   EXPECT_EQ(s.heuristic.region, RegionChoice::kRadius);
   EXPECT_DOUBLE_EQ(s.heuristic.region_radius, 0.3);
   EXPECT_DOUBLE_EQ(s.heuristic.reduced_ratio, 0.25);
+  EXPECT_TRUE(s.heuristic.strict_region);
   EXPECT_DOUBLE_EQ(s.glove.timeout_ms, 40.0);
   EXPECT_EQ(s.glove.config.queue_capacity, 256u);
   EXPECT_EQ(s.hand.kind, hal::SampleKind::kAngles);
@@ -678,6 +681,8 @@ interface = 0
        "model.reference", 4, "only used with model.normals = 'none'"},
       {"border weight on a global region", kMinimal + "[deform]\nborder_weight = 2\n", "deform.border_weight", 9,
        "only used with a localised region"},
+      {"strict region on a global region", kMinimal + "[heuristic]\nstrict_region = true\n", "heuristic.strict_region",
+       9, "only used with a localised region"},
       {"fast 1/r in double", kMinimal + "[deform]\nprecision = \"double\"\nfast_inverse_sqrt = true\n",
        "deform.fast_inverse_sqrt", 10, "only the float loop has it"},
       {"angles from the sim glove", kMinimal + "[hand]\nkind = \"angles\"\n", "hand.kind", 9,

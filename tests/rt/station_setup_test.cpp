@@ -47,6 +47,12 @@ TEST(StationSetup, DerivedDefaultsSayWhichStatisticTheyCameFrom) {
   EXPECT_NE(s.notes.back().find("x the model's spacing"), std::string::npos) << s.notes.back();
 }
 
+TEST(StationSetup, AStrictRegionNeverRunsAsTheCheaperGlobalFrame) {
+  EXPECT_TRUE(prepare_station(sphere_scene("[heuristic]\nregion = 0.5\n")).settings.deform.region.global_when_cheaper);
+  EXPECT_FALSE(prepare_station(sphere_scene("[heuristic]\nregion = 0.5\nstrict_region = true\n"))
+                   .settings.deform.region.global_when_cheaper);
+}
+
 TEST(StationSetup, LengthsFarBeyondTheModelAreRefusedNamingTheKey) {
   EXPECT_EQ(refusal(sphere_scene("[deform]\ndelta_d = 1e30\n")).rfind("t.toml: deform.delta_d = 1e+30 is too large", 0),
             0u)

@@ -118,7 +118,13 @@ expect_json "pull mode chosen, force outward" "j['mode'] == 'pull' and j['contac
 # Region: only points near the contact move.
 expect_exit 0 "region" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --region 0.5 \
   --json "$work/report.json" --double --kernel regularized --eps-reg 0.02 --form force
-expect_json "region moved fewer points" "0 < j['points_moved'] < 3203 and j['border_points'] > 0 and j['precision'] == 'double' and j['kernel'] == 'regularized'"
+expect_json "region moved fewer points" "0 < j['points_moved'] < 3203 and j['border_points'] > 0 and not j['global_frame'] and j['precision'] == 'double' and j['kernel'] == 'regularized'"
+# A region holding more than a sixth of the model runs as the global frame (cheaper, and exact),
+# unless told to stay strict.
+expect_exit 0 "wide region" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --region 1.5 --json "$work/report.json"
+expect_json "wide region ran as the global frame" "j['points_moved'] == 3203 and j['border_points'] == 0 and j['global_frame']"
+expect_exit 0 "wide strict region" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --region 1.5 --strict-region --json "$work/report.json"
+expect_json "wide strict region stayed one" "1000 < j['points_moved'] < 3203 and j['border_points'] > 0 and not j['global_frame']"
 
 # No collision is not an error.
 expect_exit 0 "no collision" -- "$SCULPT" deform --model "$sphere" --contact 0,0,2:0,0,1.5 --json "$work/report.json"
@@ -412,6 +418,7 @@ unused "render --elevation with --view" "--elevation excludes --view" -- "$SCULP
 unused "deform --encoding without a .ply --out" "--encoding applies only to a .ply --out, not $work/u.xyz" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/u.xyz" --encoding ascii
 unused "deform --encoding without --out" "--encoding applies only to a .ply --out (no --out given)" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --encoding ascii
 unused "deform --border-weight without --region" "--border-weight requires --region" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --border-weight 2
+unused "deform --strict-region without --region" "--strict-region requires --region" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --strict-region
 unused "deform --reference on a model with normals" "--reference is not used: $sphere has normals" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --reference 0,0,10
 unused "glove-sim --channel with --serial" "--channel requires --lcm" -- "$SCULPT" glove-sim "$scenes/sphere-press.toml" --serial /dev/null --channel X
 expect_exit 0 "deform --encoding with a .ply --out" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/ascii.ply" --encoding ascii

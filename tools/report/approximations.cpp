@@ -18,6 +18,7 @@ std::vector<Approximation> approximations(const deform::DeformSettings& session,
   deform::DeformSettings base = session;
   base.region = deform::RegionSettings{};
   base.region.border_weight = session.region.border_weight;
+  base.region.global_when_cheaper = session.region.global_when_cheaper;
   base.field.precision = deform::Precision::kFloat;
   base.field.carry_normals = true;
   base.field.fast_inverse_sqrt = false;

@@ -135,6 +135,10 @@ struct FrameReport {
   std::size_t patches_thinned = 0;
   std::size_t region_points = 0;  ///< points computed and moved
   std::size_t border_points = 0;
+  /// Every point moved, as the global frame: a global region, or a radius region that held the
+  /// model or would have cost more (RegionSettings::global_when_cheaper). Its log records say
+  /// global, so that a transfer moves what the frame moved.
+  bool global = false;
   double max_displacement = 0.0;
   /// Largest over the contact neighbourhoods and over the pinned band; 0 unless
   /// DeformSettings::measure_extremes.

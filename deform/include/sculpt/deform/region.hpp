@@ -2,6 +2,7 @@
 // The localised region Omega of thesis 4.4.2: only its points move, and a band along its
 // border is pinned with u0 = 0 so the surface does not tear.
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -29,7 +30,19 @@ struct RegionSettings {
   /// with weight 1 the band counts as much as the contact, so the contact still nearly reaches
   /// the probe and the band's residual motion is reported, not hidden.
   double border_weight = 1.0;
+  /// A kRadius frame whose region holds more than 1/kRegionPointCost of the model moves every
+  /// point instead, as the global frame: a region's point costs about that many of a global
+  /// frame's (gathered and scattered, found by queries, its band's rows in the solve), so the
+  /// global frame is then the cheaper one, and exact where the region pins its band. Off: only
+  /// the region's points move, whatever that costs (nothing outside it ever moves).
+  bool global_when_cheaper = true;
 };
+
+/// What a region frame's moved point costs over a global frame's point, measured here (see
+/// RegionSettings::global_when_cheaper): on the bundled sphere, one and three fingers, a region
+/// frame cost as much as the global one at 14-16 % of the points; on the 100k dragon's
+/// five-finger press 32 ns per moved point against 4.9 ns per point in the global frame.
+inline constexpr std::size_t kRegionPointCost = 6;
 
 /// The points a frame moves and the band it pins. Buffers are reserved at construction for the
 /// whole model, so build() never allocates.
@@ -44,14 +57,16 @@ class Region {
   /// band: the frame is then global() and nothing is collected, since a global frame moves the
   /// same points by the same bits without the queries, the union and the scattered reads (on
   /// the bundled sphere a region holding all of it took 2.3 times the global frame). A region
-  /// whose balls turn out to hold every point deep inside is global() too, its queries paid.
+  /// whose balls turn out to hold every point deep inside is global() too, its queries paid, and
+  /// so is one holding more than 1/kRegionPointCost of the points (global_when_cheaper).
   /// When the last build's balls found many points for the model's size, every point is tested
   /// instead, in the order of the arrays (scan_pays()): the same points and band, ascending,
   /// whichever way.
   void build(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts);
 
-  /// Every point moves: a kGlobal region, or a kRadius region whose last build() held the model.
-  bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal || holds_model_; }
+  /// Every point moves: a kGlobal region, or a kRadius region whose last build() held the model
+  /// or found the global frame the cheaper.
+  bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal || holds_model_ || cheaper_global_; }
   /// The model is the one this region was constructed on again (the deformer's restore): its
   /// box as measured then, without a pass over the points (one more pass over a large model
   /// before a frame left the frame's data out of the caches: the bench's 437k press, which
@@ -131,6 +146,7 @@ class Region {
   std::vector<std::uint32_t> as_found_;  // the queries' results, one after another
   bool as_found_complete_ = false;       // as_found_ holds every point of points_
   bool holds_model_ = false;             // the last build's ball held every point
+  bool cheaper_global_ = false;          // the last build's region cost more than the global frame
   Vec3 box_lo_{}, box_hi_{};             // the model's bounding box when last measured
   Vec3 base_lo_{}, base_hi_{};           // and at construction
   double moved_since_measure_ = 0.0;     // no point moved farther since

@@ -101,6 +101,9 @@ struct HeuristicScene {
   double region_radius = 0.0;    ///< model units, for kRadius
   double budget_fraction = 0.6;  ///< share of the tick the deformation may use, (0, 1]
   double reduced_ratio = 1.0;    ///< (0, 1]: record on this fraction of the points (thesis 4.4.1)
+  /// Only the region's points move, even in a frame whose region holds so much of the model
+  /// that the global frame would cost less (deform::RegionSettings::global_when_cheaper).
+  bool strict_region = false;
 };
 
 struct GloveScene {
