@@ -190,10 +190,12 @@ void stroke(benchmark::State& state, const std::string& name, double region_spac
     return;
   }
   const std::size_t fingers = static_cast<std::size_t>(state.range(0));
-  PointModel model = *source;
   const PointModel& file = *load(file_of(name));
+  const double heap_before = heap_bytes();
+  PointModel model = *source;
   const double spacing = typical_spacing(file, PointIndex(file)).value;
   Deformer deformer(model, bench_settings(spacing, Precision::kFloat, region_spacings));
+  const double bytes_per_point = (heap_bytes() - heap_before) / static_cast<double>(model.size());
   // Each finger's surface point a, its outward normal n and a direction t along the surface.
   std::vector<Vec3> at, out, along;
   for (const ProbeMotion& m : spread_probes(file, fingers, spacing)) {
@@ -240,6 +242,7 @@ void stroke(benchmark::State& state, const std::string& name, double region_spac
   state.counters["points"] = static_cast<double>(model.size());
   state.counters["moved"] = static_cast<double>(moved) * per_frame;
   state.counters["collisions/frame"] = static_cast<double>(collisions) * per_frame;
+  state.counters["bytes/point"] = bytes_per_point;
   // Above 1 when frames were split into substeps (a fold averted), below when some moved nothing.
   state.counters["applied/frame"] = static_cast<double>(applied) * per_frame;
   state.counters["frames/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);

@@ -1,5 +1,6 @@
 #include "ratio_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -56,7 +57,9 @@ void RatioReporter::Finalize() {
       "the bare five-source Kelvin pass on one core on as many points, S = one streaming pass over\n"
       "the positions; T(100k) = the same pass on 100,250 points, the issue's yardstick for every\n"
       "model size):\n");
-  std::printf("%-52s %10s %9s %10s %9s %12s\n", "frame", "ms", "x T", "x T(100k)", "x S", "bytes/point");
+  int width = 52;  // the longest frame name, so that the columns stay aligned
+  for (const std::string& name : order_) width = std::max(width, static_cast<int>(name.size()));
+  std::printf("%-*s %10s %9s %10s %9s %12s\n", width, "frame", "ms", "x T", "x T(100k)", "x S", "bytes/point");
   const auto bare_100k = results_.find(bare_name(100250));
   bool missing = false;
   for (const std::string& name : order_) {
@@ -77,7 +80,7 @@ void RatioReporter::Finalize() {
       }
       return std::string(cell);
     };
-    std::printf("%-52s %10.4f %s %s %s %12.0f\n", name.c_str(), ms, ratio(bare, 9, 2).c_str(),
+    std::printf("%-*s %10.4f %s %s %s %12.0f\n", width, name.c_str(), ms, ratio(bare, 9, 2).c_str(),
                 ratio(bare_100k, 10, 3).c_str(), ratio(stream, 9, 2).c_str(), r.bytes_per_point);
   }
   if (missing) {
@@ -86,7 +89,7 @@ void RatioReporter::Finalize() {
   for (const std::string& name : order_) {
     const Result& r = results_.at(name);
     if (r.points > 0.0) continue;
-    std::printf("%-52s %10.4f\n", name.c_str(), r.cpu_ms);
+    std::printf("%-*s %10.4f\n", width, name.c_str(), r.cpu_ms);
   }
 }
 
