@@ -410,19 +410,19 @@ void register_all() {
     RegisterBenchmark((std::string("BareLoop5x100k/") + tag).c_str(), [p](benchmark::State& s) {
       bare_loop(s, p);
     })->Unit(benchmark::kMicrosecond);
-    frame_row((std::string("Sphere3203/global/") + tag), [p](benchmark::State& s) { frame(s, "sphere", p, 0.0); })
+    frame_row(std::string("Sphere3203/global/") + tag, [p](benchmark::State& s) { frame(s, "sphere", p, 0.0); })
         ->Arg(1)
         ->Arg(2)
         ->Arg(3)
         ->Unit(benchmark::kMicrosecond);
     if (p == Precision::kFloat) {
-      frame_row((std::string("Sphere3203/global_fast_isqrt/") + tag),
+      frame_row(std::string("Sphere3203/global_fast_isqrt/") + tag,
                 [p](benchmark::State& s) { frame(s, "sphere", p, 0.0, 1, 0.0, true); })
           ->Arg(3)
           ->Unit(benchmark::kMicrosecond);
       // A region of 20 spacings holds 91 % of the sphere: run as the global frame, the cheaper
       // (RegionSettings::global_when_cheaper), where the region itself took twice its time.
-      frame_row((std::string("Sphere3203/region20/") + tag), [p](benchmark::State& s) { frame(s, "sphere", p, 20.0); })
+      frame_row(std::string("Sphere3203/region20/") + tag, [p](benchmark::State& s) { frame(s, "sphere", p, 20.0); })
           ->Arg(3)
           ->Unit(benchmark::kMicrosecond);
     }
@@ -455,34 +455,34 @@ void register_all() {
       }
       // 1/r from the processor's estimate (FieldOptions::fast_inverse_sqrt; float only).
       if (p == Precision::kFloat) {
-        frame_row(("Scan/" + name + "/global_fast_isqrt/" + tag),
+        frame_row("Scan/" + name + "/global_fast_isqrt/" + tag,
                   [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 1, 0.0, true); })
             ->Arg(5)
             ->Unit(ms);
-        frame_row(("Scan/" + name + "/global_fast_isqrt_2threads/" + tag),
+        frame_row("Scan/" + name + "/global_fast_isqrt_2threads/" + tag,
                   [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 2, 0.0, true); })
             ->Arg(5)
             ->Unit(ms);
       }
-      frame_row(("Scan/" + name + "/region20/" + tag), [p, name](benchmark::State& s) { frame(s, name, p, 20.0); })
+      frame_row("Scan/" + name + "/region20/" + tag, [p, name](benchmark::State& s) { frame(s, name, p, 20.0); })
           ->Arg(1)
           ->Arg(5)
           ->Unit(ms);
       if (p == Precision::kFloat) {
-        frame_row(("Scan/" + name + "/region20_stroke/" + tag), [name](benchmark::State& s) { stroke(s, name, 20.0); })
+        frame_row("Scan/" + name + "/region20_stroke/" + tag, [name](benchmark::State& s) { stroke(s, name, 20.0); })
             ->Arg(5)
             ->Unit(ms);
-        frame_row(("Scan/" + name + "/region20_glide/" + tag),
+        frame_row("Scan/" + name + "/region20_glide/" + tag,
                   [name](benchmark::State& s) { stroke(s, name, 20.0, 0.05, 64); })
             ->Arg(5)
             ->Unit(ms);
         // The same frames on the scan stored in Z order (sculpt order), pressed at the same points.
         const std::string ordered = name + kZOrder;
-        frame_row(("Scan/" + name + "/region20_zorder/" + tag),
+        frame_row("Scan/" + name + "/region20_zorder/" + tag,
                   [p, ordered](benchmark::State& s) { frame(s, ordered, p, 20.0); })
             ->Arg(5)
             ->Unit(ms);
-        frame_row(("Scan/" + name + "/region20_stroke_zorder/" + tag),
+        frame_row("Scan/" + name + "/region20_stroke_zorder/" + tag,
                   [ordered](benchmark::State& s) { stroke(s, ordered, 20.0); })
             ->Arg(5)
             ->Unit(ms);
