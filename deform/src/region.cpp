@@ -105,18 +105,17 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   as_found_.clear();
   as_found_complete_ = true;
   scanned_ = false;
-  cheaper_global_ = false;
   // Every point within radius - band of one contact: all move, none is in the band.
   const double inner = settings_.radius - border_width_;
-  holds_model_ =
+  moves_model_ =
       std::any_of(contacts.begin(), contacts.end(), [&](const Vec3& c) { return farthest_point_bound(c) <= inner; });
-  if (holds_model_) return;
+  if (moves_model_) return;
   collect(model, index, drift, contacts, inner * inner);
   balls_.end_frame();
   // The balls may hold every point after all (the box's corners lie beyond the model's points).
-  holds_model_ = points_.size() == model.size() && border_.empty();
-  cheaper_global_ = !holds_model_ && settings_.global_when_cheaper && kRegionPointCost * points_.size() > model.size();
-  if (cheaper_global_) {  // every point moves, and no band is pinned
+  const bool holds_model = points_.size() == model.size() && border_.empty();
+  moves_model_ = holds_model || past_cheaper_share(points_.size(), model.size());
+  if (moves_model_ && !holds_model) {  // the cheaper global frame: every point moves, no band
     points_.clear();
     border_.clear();
     as_found_.clear();
@@ -216,7 +215,7 @@ void Region::scan(const PointModel& model, std::span<const Vec3> contacts, doubl
     // Past the share that makes the frame global (build()), the rest of the scan could only
     // add to it: the frame is global already. What the balls found is extrapolated from the
     // points scanned, for scan_pays() to judge the next build by.
-    if (settings_.global_when_cheaper && kRegionPointCost * points_.size() > n) {
+    if (past_cheaper_share(points_.size(), n)) {
       const double scanned = static_cast<double>(begin + count);
       found_last_ = static_cast<std::size_t>(static_cast<double>(found_last_) * static_cast<double>(n) / scanned);
       return;

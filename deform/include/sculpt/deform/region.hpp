@@ -66,7 +66,7 @@ class Region {
 
   /// Every point moves: a kGlobal region, or a kRadius region whose last build() held the model
   /// or found the global frame the cheaper.
-  bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal || holds_model_ || cheaper_global_; }
+  bool global() const { return settings_.kind == RegionSettings::Kind::kGlobal || moves_model_; }
   /// The model is the one this region was constructed on again (the deformer's restore): its
   /// box as measured then, without a pass over the points (one more pass over a large model
   /// before a frame left the frame's data out of the caches: the bench's 437k press, which
@@ -129,6 +129,11 @@ class Region {
   // every point they find (the tree's leaves, the union, the band test at scattered
   // positions), a scan about one for every point and contact.
   bool scan_pays(std::size_t model_points, std::size_t contacts) const noexcept;
+  // Whether `points` of the model's are past the share that makes the global frame the cheaper
+  // (RegionSettings::global_when_cheaper).
+  bool past_cheaper_share(std::size_t points, std::size_t model_points) const noexcept {
+    return settings_.global_when_cheaper && kRegionPointCost * points > model_points;
+  }
   // build()'s points and band once no single ball holds the model: by a scan or by the queries.
   void collect(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts,
                double inner_squared);
@@ -145,8 +150,7 @@ class Region {
   std::vector<std::uint32_t> scratch_;
   std::vector<std::uint32_t> as_found_;  // the queries' results, one after another
   bool as_found_complete_ = false;       // as_found_ holds every point of points_
-  bool holds_model_ = false;             // the last build's ball held every point
-  bool cheaper_global_ = false;          // the last build's region cost more than the global frame
+  bool moves_model_ = false;             // the last build held every point or found the global frame cheaper
   Vec3 box_lo_{}, box_hi_{};             // the model's bounding box when last measured
   Vec3 base_lo_{}, base_hi_{};           // and at construction
   double moved_since_measure_ = 0.0;     // no point moved farther since
