@@ -51,8 +51,9 @@ cmake --build build-sanitize -j"$jobs"
 (cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j"$jobs")
 phase_done "AddressSanitizer + UndefinedBehaviorSanitizer"
 
-# ThreadSanitizer over the whole suite (the station, HIL and log tests are what it is for):
-# reports fail the test. The suppressions cover only uninstrumented third-party libraries (LCM, GLib, Mesa),
+# ThreadSanitizer over the whole suite but the deform tests that stay on one thread (the
+# station, HIL and log tests are what it is for; tests/CMakeLists.txt says which deform files it
+# builds): reports fail the test. The suppressions cover only uninstrumented third-party libraries (LCM, GLib, Mesa),
 # each entry commented with why.
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-g1 -DSCULPT_SANITIZE_THREAD=ON \
   -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="-O1 -Werror" -DSCULPT_DRIVER_FLAGS=-O0 >/dev/null

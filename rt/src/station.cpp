@@ -214,9 +214,9 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
   totals_.collisions += frame.collisions;
   totals_.max_region_points = std::max(totals_.max_region_points, frame.region_points);
   totals_.max_region_radius = std::max(totals_.max_region_radius, report_.region_radius);
-  // A region that held the whole model ran as the global frame: every point, no band.
-  const bool whole = frame.region_points >= deformer_.model().size() && frame.border_points == 0;
-  region_sizer_.observe(frame.region_points, frame.collisions, report_.deform_ns, whole);
+  // A region that held the whole model, or more of it than a region frame pays for, ran as the
+  // global frame: its cost per point is the global frame's, kept apart by the sizer.
+  region_sizer_.observe(frame.region_points, frame.collisions, report_.deform_ns, frame.global);
   // Each frame the deformer applied is a frame of its own in the log (a split step holds
   // several), with consecutive ids, so replay reproduces the step exactly.
   const auto applied = deformer_.frames();
