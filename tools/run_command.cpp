@@ -215,6 +215,12 @@ class RunCommand final : public Command {
     std::printf("         %llu glove samples, %llu collision frames, %llu collisions\n",
                 static_cast<unsigned long long>(t.samples), static_cast<unsigned long long>(t.frames),
                 static_cast<unsigned long long>(t.collisions));
+    if (t.collision_frame_time.count() > 0) {
+      std::printf("         deformation in frames with a collision: median %.4g us p99.9 %.4g us max %.4g us\n",
+                  static_cast<double>(t.collision_frame_time.median()) * 1e-3,
+                  static_cast<double>(t.collision_frame_time.quantile(0.999)) * 1e-3,
+                  static_cast<double>(t.collision_frame_time.max()) * 1e-3);
+    }
     if (!out.empty()) std::printf("wrote    %s\n", out.c_str());
     return kExitOk;
   }
@@ -288,6 +294,7 @@ class RunCommand final : public Command {
             {"tick_time", histogram_json(s.tick_time)},
             {"tick_cpu_time", histogram_json(s.tick_cpu_time)},
             {"wake_jitter", histogram_json(s.wake_jitter)},
+            {"collision_frame_time", histogram_json(t.collision_frame_time)},
             {"glove_samples", c.samples},
             {"samples_taken", t.samples},
             {"stale_ticks", t.stale_ticks},

@@ -212,6 +212,7 @@ void Station::run_frame(std::int64_t budget_ns) noexcept {
                               : 0.0;
   ++totals_.frames;
   totals_.collisions += frame.collisions;
+  if (frame.collisions > 0) totals_.collision_frame_time.add(std::llround(report_.deform_ns));
   totals_.max_region_points = std::max(totals_.max_region_points, frame.region_points);
   totals_.max_region_radius = std::max(totals_.max_region_radius, report_.region_radius);
   // A region that held the whole model, or more of it than a region frame pays for, ran as the

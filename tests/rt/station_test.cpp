@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <deque>
 #include <thread>
@@ -66,6 +67,8 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
   // 5 ticks of a 1 kHz loop), then holds.
   std::int64_t now = 0;
   std::uint64_t collisions = 0;
+  std::uint64_t colliding_frames = 0;
+  double slowest_colliding_frame_ns = 0.0;
   // A tight budget (30 us per tick) keeps the auto region small: it may move only the points
   // that budget pays for, nearest first.
   constexpr std::int64_t kBudget = 30'000;
@@ -73,7 +76,12 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
     for (int t = 0; t < 5; ++t) {
       now += kMs;
       if (feed && t == 0) g->feed({0.0, 0.0, z}, now, static_cast<std::uint64_t>(now / 1000));
-      collisions += station.tick(now, kBudget).collisions;
+      const TickReport& r = station.tick(now, kBudget);
+      collisions += r.collisions;
+      if (r.frame && r.collisions > 0) {
+        ++colliding_frames;
+        slowest_colliding_frame_ns = std::max(slowest_colliding_frame_ns, r.deform_ns);
+      }
     }
   };
   // Counted from the very first tick: every buffer is sized when the station is built, so not
@@ -87,6 +95,12 @@ TEST(Station, PressDeformsTheSphereAllocatesNothingAndReleasesWhenTheGloveGoesSi
   EXPECT_EQ(allocations, 0u) << "the tick allocated";
   EXPECT_GT(collisions, 0u);
   EXPECT_GT(station.totals().frames, 10u);
+  // Every frame with a collision, and only those, timed as its tick reported it.
+  const LatencyHistogram& frame_time = station.totals().collision_frame_time;
+  EXPECT_GT(colliding_frames, 0u);
+  EXPECT_LT(colliding_frames, station.totals().frames);  // the descent's first frames touch nothing
+  EXPECT_EQ(frame_time.count(), colliding_frames);
+  EXPECT_EQ(frame_time.max(), std::llround(slowest_colliding_frame_ns));
   // The pole was pushed in toward the finger's final depth.
   double lowest = 2.0;
   for (std::size_t i = 0; i < sphere.size(); ++i) {

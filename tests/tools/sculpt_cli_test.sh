@@ -320,6 +320,8 @@ fi
 expect_exit 0 "run sphere-press" -- "$SCULPT" run "$press_scene" --duration 1.5 --quiet \
   --out "$work/run.ply" --json "$work/report.json"
 expect_json "run ticked and reported" "j['ticks'] > 500 and 'tick_time' in j and j['tick_cpu_time']['max_us'] <= j['tick_time']['max_us'] + 50 and 'faults' in j and j['rate_hz'] == 1000"
+# The press collides: every frame with a collision is timed, and its deformation is part of a tick.
+expect_json "run timed its collision frames" "0 < j['collision_frame_time']['count'] <= j['frames'] and j['collision_frame_time']['count'] <= j['collisions'] and 0 < j['collision_frame_time']['max_us'] <= j['tick_time']['max_us']"
 sed 's/^rate_hz = 80/ratee_hz = 80/' "$scenes/sphere-press.toml" > "$work/typo.toml"
 if grep -q ratee_hz "$work/typo.toml"; then
   expect_exit 2 "scene with a typo" -- "$SCULPT" run "$work/typo.toml" --duration 1

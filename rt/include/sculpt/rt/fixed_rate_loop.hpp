@@ -25,7 +25,9 @@ struct LoopStats {
   std::uint64_t missed_periods = 0;  ///< periods skipped because of overruns (no tick for them)
   LatencyHistogram tick_time;        ///< time used by each tick, wake-up to return (ns)
   /// CPU time the loop's thread spent in each tick (ns). Beside tick_time it tells a tick that
-  /// worked long from one the machine preempted (wall time grows, CPU time does not).
+  /// worked long from one the kernel preempted (wall time grows, CPU time does not). Not one the
+  /// hypervisor held up, unless the host reports steal time: these VMs report none (/proc/stat),
+  /// so there that time is the thread's too.
   LatencyHistogram tick_cpu_time;
   LatencyHistogram wake_jitter;  ///< how late each wake-up was after its deadline (ns)
   std::int64_t started_ns = 0;   ///< CLOCK_MONOTONIC when run() started

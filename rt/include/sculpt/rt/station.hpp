@@ -15,6 +15,7 @@
 #include "sculpt/rt/dead_band.hpp"
 #include "sculpt/rt/haptic_shaper.hpp"
 #include "sculpt/rt/index_rebuilder.hpp"
+#include "sculpt/rt/latency_histogram.hpp"
 #include "sculpt/rt/one_euro_filter.hpp"
 #include "sculpt/rt/region_sizer.hpp"
 #include "sculpt/rt/similarity_transform.hpp"
@@ -92,8 +93,13 @@ struct StationTotals {
   double max_region_radius = 0.0;
   std::size_t max_region_points = 0;
   std::uint64_t index_rebuilds = 0;  ///< k-d trees rebuilt in the background and installed
-  deform::GuardCounts guards;        ///< every stability guard that acted, summed
-  std::uint64_t out_of_range = 0;    ///< fingertips dropped: not finite or far outside the model
+  /// Wall time of the deformation in each frame with a collision (ns), the part of a tick that
+  /// grows with the model and the region. Beside the loop's tick time it tells a slow frame
+  /// from a tick the machine held up: on these VMs the hypervisor reports no steal time, so a
+  /// preempted tick grows on the thread's CPU clock too.
+  LatencyHistogram collision_frame_time;
+  deform::GuardCounts guards;      ///< every stability guard that acted, summed
+  std::uint64_t out_of_range = 0;  ///< fingertips dropped: not finite or far outside the model
   /// Strokes whose summed reaction stopped being finite: the finger's force is released (the
   /// safe state), its sum restarted, and the station goes on. Never expected; counted if it is.
   std::uint64_t haptic_faults = 0;
