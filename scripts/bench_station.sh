@@ -101,25 +101,46 @@ for name in bench-2m-t1 bench-2m-t2 bench-2m-z1 sphere100k-circle-t1 sphere100k-
 done
 t_after="$(t_ms)"
 
-python3 - "$out" "$t_before" "$t_after" <<'PY'
-import json, sys
+python3 - "$out" "$t_before" "$t_after" "$root/scripts" <<'PY'
+import json, os, sys
 out, t0, t1 = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
+sys.path.insert(0, sys.argv[4])
+import lcm_log  # the run's own log: one SCULPT_TICK record per tick
+
+
+def slow_ticks(log):
+    """Ticks over the 1 ms budget, (with a collision, without one), from the run's log."""
+    if not os.path.exists(log):
+        return None
+    types = lcm_log.load_types(lcm_log.default_types_dir())
+    with_collision = without = 0
+    for _, _, channel, m in lcm_log.decoded(log, types):
+        if channel == "SCULPT_TICK" and m.tick_time_us > 1000.0:
+            if m.collisions > 0:
+                with_collision += 1
+            else:
+                without += 1
+    return with_collision, without
+
+
 print(f"T(100k) = {t0:.3f} ms before the runs, {t1:.3f} ms after (Bare5/100250, CPU median of 5)")
 # "colliding frames": the deformation's own wall time in the frames with a collision, which
 # tells a slow frame from a tick the VM held up (its host reports no steal time, so those show
 # on the tick's CPU clock too).
-print("| run | points | threads | ticks | frames | overruns | tick median | p99 | p99.9 | max | CPU p99.9 | CPU max | wake-up p99 | colliding frames | their p99.9 | their max | region points | index rebuilds |")
-print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+print("| run | points | threads | ticks | frames | overruns | tick median | p99 | p99.9 | max | CPU p99.9 | CPU max | wake-up p99 | colliding frames | their p99.9 | their max | ticks over 1 ms (colliding / not) | region points | index rebuilds |")
+print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 for name, points in [("bench-2m-t1", "2,000,000"), ("bench-2m-t2", "2,000,000"), ("bench-2m-z1", "2,000,000 (Z order)"),
                      ("sphere100k-circle-t1", "100,000"), ("sphere100k-circle-t2", "100,000")]:
     d = json.load(open(f"{out}/{name}.json"))
     h = d["tick_time"]
     c = d["tick_cpu_time"]
     f = d["collision_frame_time"]
+    counts = slow_ticks(f"{out}/{name}.lcmlog")
+    slow = "no log" if counts is None else f"{counts[0]} / {counts[1]}"
     threads = name[-1]
     print(f"| {name[:-3]} | {points} | {threads} | {d['ticks']} | {d['frames']} | {d['overruns']} | "
           f"{h['median_us']:.1f} us | {h['p99_us']:.0f} us | {h['p999_us']:.0f} us | {h['max_us']:.0f} us | "
           f"{c['p999_us']:.0f} us | {c['max_us']:.0f} us | "
           f"{d['wake_jitter']['p99_us']:.0f} us | {f['count']} | {f['p999_us']:.0f} us | {f['max_us']:.0f} us | "
-          f"{d['max_region_points']} | {d['index_rebuilds']} |")
+          f"{slow} | {d['max_region_points']} | {d['index_rebuilds']} |")
 PY
