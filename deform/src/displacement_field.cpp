@@ -743,8 +743,13 @@ PassExtremes<T> apply_range(PointModel& model, const SourceTable<T>& t, std::siz
 
 // Below this many points a pass runs on the caller alone: waking the worker costs microseconds.
 constexpr std::size_t kMinSplitPoints = 16384;
+// A shared pass is cut into parts of about this many points (about 40 us of a five-finger
+// frame), so that a worker kept off its core holds the frame for at most that, and at most
+// kMaxPassParts of them.
+constexpr std::size_t kPartPoints = 8192;
+constexpr std::size_t kMaxPassParts = 64;
 
-// A pass over `count` points, split at a block boundary between the caller and the worker when
+// A pass over `count` points, shared with the worker in parts cut at block boundaries when
 // there is one and the pass is large enough.
 template <typename T, bool kGradient, bool kCarry, bool kContiguous, bool kBounded, typename IndexOf>
 FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t count, IndexOf index_of,
@@ -758,30 +763,36 @@ FieldResult apply_typed(PointModel& model, const SourceTable<T>& t, std::size_t 
   if (!worker || count < kMinSplitPoints) {
     e = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(model, t, 0, count, index_of, journal, aside);
   } else {
-    struct Halves {
+    const std::size_t wanted = std::min(kMaxPassParts, (count + kPartPoints - 1) / kPartPoints);
+    const std::size_t size = (count + wanted - 1) / wanted;
+    struct Parts {
       PointModel& model;
       const SourceTable<T>& table;
       IndexOf index_of;
       UndoJournal* journal;
       bool aside;
-      std::size_t split, count;
-      PassExtremes<T> part[2];
-    } halves{model, t, index_of, journal, aside, (count / 2 + kBlock - 1) / kBlock * kBlock, count, {}};
-    worker->run_both(
-        [](void* context, int part) noexcept {
-          Halves& h = *static_cast<Halves*>(context);
-          const std::size_t first = part == 0 ? 0 : h.split, last = part == 0 ? h.split : h.count;
-          h.part[part] = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(h.model, h.table, first, last,
-                                                                                  h.index_of, h.journal, h.aside);
+      std::size_t size, count;
+      PassExtremes<T> part[kMaxPassParts];
+    } parts{model, t, index_of, journal, aside, (size + kBlock - 1) / kBlock * kBlock, count, {}};
+    const std::size_t part_count = (count + parts.size - 1) / parts.size;
+    worker->run_parts(
+        [](void* context, std::size_t part) noexcept {
+          Parts& p = *static_cast<Parts*>(context);
+          const std::size_t first = part * p.size, last = std::min(p.count, first + p.size);
+          p.part[part] = apply_range<T, kGradient, kCarry, kContiguous, kBounded>(p.model, p.table, first, last,
+                                                                                  p.index_of, p.journal, p.aside);
         },
-        &halves);
-    e.max_squared = std::max(halves.part[0].max_squared, halves.part[1].max_squared);
-    e.min_det = std::min(halves.part[0].min_det, halves.part[1].min_det);
-    e.bad = halves.part[0].bad | halves.part[1].bad;
-    e.skips.skipped = halves.part[0].skips.skipped + halves.part[1].skips.skipped;
-    e.skips.max_skipped_bound =
-        std::max(halves.part[0].skips.max_skipped_bound, halves.part[1].skips.max_skipped_bound);
-    e.skips.min_det_floor = std::min(halves.part[0].skips.min_det_floor, halves.part[1].skips.min_det_floor);
+        &parts, part_count);
+    // Max, min and integer sums: exact in any order, so the same whichever thread ran a part.
+    for (std::size_t k = 0; k < part_count; ++k) {
+      const PassExtremes<T>& x = parts.part[k];
+      e.max_squared = std::max(e.max_squared, x.max_squared);
+      e.min_det = std::min(e.min_det, x.min_det);
+      e.bad |= x.bad;
+      e.skips.skipped += x.skips.skipped;
+      e.skips.max_skipped_bound = std::max(e.skips.max_skipped_bound, x.skips.max_skipped_bound);
+      e.skips.min_det_floor = std::min(e.skips.min_det_floor, x.skips.min_det_floor);
+    }
   }
   if (aside) JournalWriter{*journal}.write_aside(model, kCarry);
   FieldResult result;

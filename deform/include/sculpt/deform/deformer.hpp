@@ -89,8 +89,8 @@ struct DeformSettings {
   bool measure_extremes = true;
   std::size_t max_probes = kMaxSources;
   GuardSettings guards;
-  /// 1: the frame runs on the caller's core. 2: a worker started with the deformer takes half
-  /// of every large displacement pass (bit for bit the same result).
+  /// 1: the frame runs on the caller's core. 2: a worker started with the deformer shares the
+  /// parts of every large displacement pass with the caller (bit for bit the same result).
   int threads = 1;
 };
 
