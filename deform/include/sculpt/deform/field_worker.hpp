@@ -7,8 +7,8 @@
 //
 // Why parts claimed rather than a half each: in the station the worker's core also runs the
 // I/O and logger threads, and this VM's host may hold a virtual CPU for milliseconds. A half
-// handed to a worker that was not running held the frame until it ran (a global 100k frame of
-// about 0.5 ms took up to 7.8 ms in the station on two threads, against 1 ms on one). A part
+// handed to a worker that was not running held the frame until it ran (a global 100k frame,
+// 0.3-0.4 ms at the median, took up to 7.8 ms in the station on two threads, 1 ms on one). A part
 // the worker has not begun when the caller comes free is the caller's: the wait is at most the
 // part the worker is in.
 
