@@ -17,6 +17,7 @@
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/displacement_field.hpp"
 #include "sculpt/deform/generators.hpp"
+#include "support/eventually.hpp"
 #include "support/same_bytes.hpp"
 
 namespace sculpt::deform {
@@ -24,14 +25,10 @@ namespace {
 
 using test::same_bytes;
 
-// A part waits (up to a deadline) until `flag` reaches `value`; false when it never did.
+// A part waits (up to a deadline, polling without sleeping: the other thread is microseconds
+// away) until `flag` reaches `value`; false when it never did.
 bool wait_for(const std::atomic<int>& flag, int value) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (flag.load() < value) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::yield();
-  }
-  return true;
+  return test::eventually([&] { return flag.load() >= value; }, std::chrono::seconds(10), std::chrono::milliseconds(0));
 }
 
 // Two parts that each wait until both have begun: neither thread can run both, so each runs
