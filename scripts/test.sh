@@ -15,9 +15,24 @@ phase_done() {
   phase_start=$SECONDS
 }
 
+# The tests write into temporary folders and the build trees, never into the checkout: a user's
+# out/ holds their sessions (tests once ran the bundled scene, whose log is out/'s). Checked
+# after each pass against a stamp made before the first.
+started_stamp="$(mktemp)"
+checkout_untouched() {
+  local touched
+  touched="$(find "$root" \( -path "$root/build*" -o -path "$root/.git" \) -prune -o -newer "$started_stamp" -print)"
+  if [[ -n $touched ]]; then
+    echo "test: the tests wrote into the checkout:"
+    echo "$touched"
+    exit 1
+  fi
+}
+
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-Werror >/dev/null
 cmake --build build -j"$jobs"
 (cd build && ctest --output-on-failure -j"$jobs")
+checkout_untouched
 phase_done "Release build and tests"
 
 # The minimal configuration: no LCM, USB or CAN. It must build clean, refuse what needs a
@@ -32,6 +47,7 @@ cmake -S . -B build-minimal -G Ninja -DCMAKE_BUILD_TYPE=Release -DSCULPT_WITH_LC
   -DSCULPT_DRIVER_FLAGS=-O0 >/dev/null
 cmake --build build-minimal -j"$jobs"
 (cd build-minimal && ctest --output-on-failure -j"$jobs")
+checkout_untouched
 phase_done "minimal configuration"
 
 # The house style (.clang-format) and naming (.clang-tidy), over every source file.
@@ -49,6 +65,7 @@ cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS
   -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="-O1 -Werror" -DSCULPT_DRIVER_FLAGS=-O0 >/dev/null
 cmake --build build-sanitize -j"$jobs"
 (cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j"$jobs")
+checkout_untouched
 phase_done "AddressSanitizer + UndefinedBehaviorSanitizer"
 
 # ThreadSanitizer over the whole suite but the deform tests that stay on one thread (the
@@ -60,5 +77,6 @@ cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEB
 cmake --build build-tsan -j"$jobs"
 (cd build-tsan && TSAN_OPTIONS="suppressions=$root/tests/tsan_suppressions.txt second_deadlock_stack=1" \
   ctest --output-on-failure -j"$jobs")
+checkout_untouched
 phase_done "ThreadSanitizer"
 echo "test: everything passed in $((SECONDS / 60)) min $((SECONDS % 60)) s"

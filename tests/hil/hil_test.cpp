@@ -39,6 +39,11 @@ using Clock = std::chrono::steady_clock;
 const std::string kSculpt = SCULPT_BINARY;
 const std::string kScene = std::string(SCULPT_SOURCE_DIR) + "/scenes/sphere-press.toml";
 
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 // Built without LCM the station has no event log: a scene asking for one is refused (tested by
 // the command-line script), so these tests run the same scene without its log line.
 [[maybe_unused]] void drop_event_log(std::string& scene_text) {
@@ -46,25 +51,23 @@ const std::string kScene = std::string(SCULPT_SOURCE_DIR) + "/scenes/sphere-pres
   if (at != std::string::npos) scene_text.erase(at + 1, scene_text.find('\n', at + 1) - at);
 }
 
-// The bundled one-finger press as the station in this build can run it.
-std::string press_scene() {
-#if SCULPT_TEST_WITH_LCM
-  return kScene;
-#else
-  static const std::string copy = [] {
-    std::ifstream in(kScene);
-    std::string text((std::istreambuf_iterator<char>(in)), {});
-    const std::string root = std::string(SCULPT_SOURCE_DIR) + "/";
-    for (std::size_t at = text.find("../"); at != std::string::npos; at = text.find("../", at + root.size())) {
-      text.replace(at, 3, root);
-    }
-    drop_event_log(text);
-    const fs::path path = fs::temp_directory_path() / ("sculpt-hil-press-" + std::to_string(getpid()) + ".toml");
-    std::ofstream(path) << text;
-    return path.string();
-  }();
-  return copy;
+// A copy of the bundled one-finger press for a test: absolute model path, outputs into `dir`
+// (never the checkout's out/, which holds a user's sessions), the event log dropped where this
+// build has none, and `extra` appended (sections the bundled scene does not have).
+fs::path scene_copy(const fs::path& dir, const std::string& extra) {
+  std::string text = read_file(kScene);
+  auto replace_all = [&](const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+  };
+  replace_all("../data/", std::string(SCULPT_SOURCE_DIR) + "/data/");
+  replace_all("../out/", dir.string() + "/");
+#if !SCULPT_TEST_WITH_LCM
+  drop_event_log(text);
 #endif
+  const fs::path scene = dir / "sphere-press.toml";
+  std::ofstream(scene) << text << "\n" << extra << "\n";
+  return scene;
 }
 
 using Process = test::ChildProcess;
@@ -89,11 +92,6 @@ struct Pty {
     master = slave = -1;
   }
 };
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 void write_all(int fd, const std::uint8_t* data, std::size_t n) {
   while (n > 0) {
@@ -136,12 +134,13 @@ TEST(HardwareInTheLoop, SerialThroughAFaultyLineKeepsTheStationRunning) {
   fs::create_symlink(station_side.slave_path, link);
 
   const std::string json = (dir / "run.json").string(), out = (dir / "out.ply").string();
-  Process station({kSculpt, "run", press_scene(), "--serial", link.string(), "--duration", "6", "--json", json, "--out",
-                   out, "--quiet"},
-                  (dir / "run.log").string());
+  const std::string scene = scene_copy(dir, "").string();
+  Process station(
+      {kSculpt, "run", scene, "--serial", link.string(), "--duration", "6", "--json", json, "--out", out, "--quiet"},
+      (dir / "run.log").string());
   ASSERT_TRUE(station.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  Process glove({kSculpt, "glove-sim", press_scene(), "--serial", glove_side.slave_path}, (dir / "glove.log").string());
+  Process glove({kSculpt, "glove-sim", scene, "--serial", glove_side.slave_path}, (dir / "glove.log").string());
   ASSERT_TRUE(glove.started());
 
   // The relay: copy the glove's bytes to the station's line, and break the line on schedule.
@@ -237,10 +236,11 @@ TEST(HardwareInTheLoop, LcmMulticastOnLoopback) {
   fs::create_directories(dir);
   const std::string url = "udpm://239.255.76.67:" + std::to_string(7700 + getpid() % 200) + "?ttl=0";
   const std::string json = (dir / "run.json").string();
-  Process station({kSculpt, "run", kScene, "--lcm", url, "--duration", "5", "--json", json, "--quiet"},
+  const std::string scene = scene_copy(dir, "").string();
+  Process station({kSculpt, "run", scene, "--lcm", url, "--duration", "5", "--json", json, "--quiet"},
                   (dir / "run.log").string());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // a late subscriber misses messages
-  Process glove({kSculpt, "glove-sim", kScene, "--lcm", url}, (dir / "glove.log").string());
+  Process glove({kSculpt, "glove-sim", scene, "--lcm", url}, (dir / "glove.log").string());
   EXPECT_EQ(glove.wait(std::chrono::seconds(20)), 0) << read_file((dir / "glove.log").string());
   const int code = station.wait(std::chrono::seconds(20));
   const std::string log = read_file((dir / "run.log").string());
@@ -260,7 +260,8 @@ TEST(HardwareInTheLoop, SigtermEndsTheRunCleanly) {
   const fs::path dir = fs::temp_directory_path() / ("sculpt-hil-term-" + std::to_string(getpid()));
   fs::create_directories(dir);
   const std::string json = (dir / "run.json").string(), out = (dir / "out.ply").string();
-  Process station({kSculpt, "run", press_scene(), "--json", json, "--out", out, "--quiet"}, (dir / "run.log").string());
+  Process station({kSculpt, "run", scene_copy(dir, "").string(), "--json", json, "--out", out, "--quiet"},
+                  (dir / "run.log").string());
   ASSERT_TRUE(station.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   station.signal(SIGTERM);
@@ -269,24 +270,6 @@ TEST(HardwareInTheLoop, SigtermEndsTheRunCleanly) {
   EXPECT_GT(r["ticks"].get<int>(), 500);
   EXPECT_EQ(deform::read_model(out).size(), 3203u);
   fs::remove_all(dir);
-}
-
-// A copy of a bundled scene for a test: absolute model path, outputs into `dir`, and `extra`
-// appended (sections the bundled scene does not have).
-fs::path scene_copy(const fs::path& dir, const std::string& extra) {
-  std::string text = read_file(kScene);
-  auto replace_all = [&](const std::string& from, const std::string& to) {
-    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
-      text.replace(at, from.size(), to);
-  };
-  replace_all("../data/", std::string(SCULPT_SOURCE_DIR) + "/data/");
-  replace_all("../out/", dir.string() + "/");
-#if !SCULPT_TEST_WITH_LCM
-  drop_event_log(text);
-#endif
-  const fs::path scene = dir / "sphere-press.toml";
-  std::ofstream(scene) << text << "\n" << extra << "\n";
-  return scene;
 }
 
 // What a glove on the station's serial haptic line received, as this test decoded it.
