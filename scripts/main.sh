@@ -9,8 +9,9 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
 mkdir -p out
 # The station on the simulated glove: three fingers squeeze the bundled 3,203-point sphere.
-# The scene writes its event log to out/sphere-squeeze.lcmlog.
-./build/tools/sculpt run scenes/sphere-squeeze.toml --duration 5 --quiet \
+# The scene writes its event log to out/sphere-squeeze.lcmlog; --replace-log lets this job's
+# own earlier log go (without it a run refuses to erase a log that holds a session).
+./build/tools/sculpt run scenes/sphere-squeeze.toml --duration 5 --quiet --replace-log \
   --out out/sphere_sculpted.ply --json out/sphere_sculpted.json
 # Pictures of the result, headless (OSMesa): the sphere before and after from the thumb's side,
 # and both from each finger's side coloured by how far each point moved, with the session's

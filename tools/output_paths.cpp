@@ -4,6 +4,7 @@
 #include <cctype>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <system_error>
 
 #include "sculpt/deform/model_io.hpp"
@@ -36,6 +37,19 @@ void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPa
     throw std::invalid_argument(output.what + " " + output.path + " is " + input.what + " (" + input.path +
                                 "): an output may not overwrite an input");
   }
+}
+
+void refuse_overwriting_log(const NamedPath& log, const std::string& replace_flag) {
+  if (!names_a_file(log.path)) return;
+  std::error_code error;
+  const fs::file_status status = fs::status(log.path, error);
+  if (error || !fs::is_regular_file(status)) return;  // missing, or not a file: opening it says why
+  const std::uintmax_t bytes = fs::file_size(log.path, error);
+  if (error || bytes == 0) return;
+  throw std::invalid_argument(log.what + " " + log.path + " already holds a session (" + std::to_string(bytes) +
+                              " bytes): a new session would erase that edit history; move it, name another "
+                              "log, or pass " +
+                              replace_flag + " to replace it");
 }
 
 std::string lower_extension(const std::string& path) {

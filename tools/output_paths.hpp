@@ -23,6 +23,12 @@ void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPa
 /// deform::write_model writes).
 void refuse_unwritable_model_format(const std::string& option, const std::string& path);
 
+/// Throws std::invalid_argument when `log` names a file that exists and holds anything: an event
+/// log is a session's edit history (base model + log = the sculpted model), and a new session
+/// opening it would truncate it. The message names the file, its size, and `replace_flag`, the
+/// option that says the old session may go. A missing or empty file passes.
+void refuse_overwriting_log(const NamedPath& log, const std::string& replace_flag);
+
 /// The path's extension in lower case, with its dot (".ply"); empty when it has none.
 std::string lower_extension(const std::string& path);
 

@@ -66,6 +66,8 @@ class RunCommand final : public Command {
     auto* lcm = sub_->add_option("--lcm", lcm_url_, "Read the glove from this LCM URL (overrides glove.backend)");
     serial->excludes(lcm);  // one glove backend: the later would silently win
     sub_->add_flag("--quiet", quiet_, "No live status line");
+    sub_->add_flag("--replace-log", replace_log_,
+                   "Start the scene's event log (output.log) afresh even when it holds an earlier session");
   }
   bool chosen() const override { return sub_->parsed(); }
 
@@ -102,6 +104,7 @@ class RunCommand final : public Command {
            {NamedPath{"--out", out}, NamedPath{"--json", json}, NamedPath{"output.log", log}}) {
         refuse_output_naming_input(output, inputs);
       }
+      if (!replace_log_) refuse_overwriting_log({scene_path_ + ": output.log", log}, "--replace-log");
       if (json == "-") reserve_stdout_for_json();
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt run: error: " << e.what() << "\n";
@@ -346,6 +349,7 @@ class RunCommand final : public Command {
   std::string scene_path_, out_path_, json_path_, serial_device_, lcm_url_;
   double duration_s_ = 0.0;
   bool quiet_ = false;
+  bool replace_log_ = false;
 };
 
 }  // namespace

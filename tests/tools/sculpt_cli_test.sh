@@ -312,16 +312,34 @@ refused_model "coincident model" same.xyz '1 2 3\n1 2 3\n1 2 3\n' \
 
 # The station: a short run, then scene errors.
 scenes="$repo/scenes"
-press_scene="$scenes/sphere-press.toml"
-if [[ $with_lcm != ON ]]; then  # the same press without its event log
-  sed "s|\.\./data/|$repo/data/|; /^log = /d" "$scenes/sphere-press.toml" >"$work/press-unlogged.toml"
-  press_scene="$work/press-unlogged.toml"
-fi
+# The bundled press with its outputs in $work, never the checkout's out/ (a user's sessions), and
+# without its event log where this build has none.
+press_scene="$work/press.toml"
+sed "s|\.\./data/|$repo/data/|; s|\.\./out/|$work/|" "$scenes/sphere-press.toml" >"$press_scene"
+if [[ $with_lcm != ON ]]; then sed -i '/^log = /d' "$press_scene"; fi
 expect_exit 0 "run sphere-press" -- "$SCULPT" run "$press_scene" --duration 1.5 --quiet \
   --out "$work/run.ply" --json "$work/report.json"
 expect_json "run ticked and reported" "j['ticks'] > 500 and 'tick_time' in j and j['tick_cpu_time']['max_us'] <= j['tick_time']['max_us'] + 50 and 'faults' in j and j['rate_hz'] == 1000"
 # The press collides: every frame with a collision is timed, and its deformation is part of a tick.
 expect_json "run timed its collision frames" "0 < j['collision_frame_time']['count'] <= j['frames'] and j['collision_frame_time']['count'] <= j['collisions'] and 0 < j['collision_frame_time']['max_us'] <= j['tick_time']['max_us']"
+# The log is the session's edit history: a second run of the scene refuses to erase it (exit 2,
+# before any work, the log untouched) unless --replace-log says it may go.
+if [[ $with_lcm == ON ]]; then
+  cp "$work/sphere-press.lcmlog" "$work/first-session.lcmlog"
+  expect_exit 2 "run refuses to erase an earlier session's log" -- "$SCULPT" run "$press_scene" --duration 1 --quiet \
+    --out "$work/run2.ply" --json "$work/report2.json"
+  one_line_error "the refusal names the log and the way to replace it" "output.log $work/sphere-press.lcmlog already holds a session ($(stat -c %s "$work/first-session.lcmlog") bytes).*--replace-log"
+  if cmp -s "$work/sphere-press.lcmlog" "$work/first-session.lcmlog" && [[ ! -e $work/run2.ply ]]; then
+    ok "the refused run left the log as it was and wrote nothing"
+  else
+    bad "the refused run changed the log or wrote a model"
+  fi
+  : >"$work/sphere-press.lcmlog"  # an empty log holds no session: nothing to refuse for
+  expect_exit 0 "run over an empty log" -- "$SCULPT" run "$press_scene" --duration 0.3 --quiet --out "$work/run2.ply" --json "$work/report2.json"
+  expect_exit 0 "run --replace-log starts the log afresh" -- "$SCULPT" run "$press_scene" --duration 0.3 --quiet \
+    --replace-log --out "$work/run2.ply" --json "$work/report2.json"
+  if cmp -s "$work/sphere-press.lcmlog" "$work/first-session.lcmlog"; then bad "--replace-log kept the old log"; else ok "--replace-log replaced the log"; fi
+fi
 sed 's/^rate_hz = 80/ratee_hz = 80/' "$scenes/sphere-press.toml" > "$work/typo.toml"
 if grep -q ratee_hz "$work/typo.toml"; then
   expect_exit 2 "scene with a typo" -- "$SCULPT" run "$work/typo.toml" --duration 1
