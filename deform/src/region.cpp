@@ -110,11 +110,13 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   moves_model_ =
       std::any_of(contacts.begin(), contacts.end(), [&](const Vec3& c) { return farthest_point_bound(c) <= inner; });
   if (moves_model_) return;
+  counted_past_share_ = false;
   collect(model, index, drift, contacts, inner * inner);
   balls_.end_frame();
   // The balls may hold every point after all (the box's corners lie beyond the model's points).
   const bool holds_model = points_.size() == model.size() && border_.empty();
-  moves_model_ = holds_model || past_cheaper_share(points_.size(), model.size());
+  moves_model_ = holds_model || counted_past_share_ || past_cheaper_share(points_.size(), model.size());
+  went_global_for_share_ = moves_model_ && !holds_model;
   if (moves_model_ && !holds_model) {  // the cheaper global frame: every point moves, no band
     points_.clear();
     border_.clear();
@@ -182,45 +184,67 @@ void Region::scan(const PointModel& model, std::span<const Vec3> contacts, doubl
   scanned_ = true;
   found_last_ = 0;
   const double radius_squared = settings_.radius * settings_.radius;
-  // A chunk's smallest squared distance to any contact, one contact at a time so that the
-  // inner loop runs over contiguous coordinates (and vectorises).
+  const std::size_t n = model.size();
+  // Each point's smallest squared distance to any contact, a chunk at a time, one contact at a
+  // time so that the inner loop runs over contiguous coordinates (and vectorises); `visit` takes
+  // each chunk's and returns false to stop.
   constexpr std::size_t kChunk = 256;
   alignas(64) double nearest[kChunk];
-  const std::size_t n = model.size();
-  for (std::size_t begin = 0; begin < n; begin += kChunk) {
-    const std::size_t count = std::min(kChunk, n - begin);
-    const float* x = model.x.data() + begin;
-    const float* y = model.y.data() + begin;
-    const float* z = model.z.data() + begin;
-    for (std::size_t k = 0; k < count; ++k) nearest[k] = std::numeric_limits<double>::infinity();
-    for (const Vec3& c : contacts) {
+  const auto for_each_chunk = [&](auto&& visit) {
+    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+      const std::size_t count = std::min(kChunk, n - begin);
+      const float* x = model.x.data() + begin;
+      const float* y = model.y.data() + begin;
+      const float* z = model.z.data() + begin;
+      for (std::size_t k = 0; k < count; ++k) nearest[k] = std::numeric_limits<double>::infinity();
       std::size_t within = 0;
-      for (std::size_t k = 0; k < count; ++k) {
-        // squared_norm(position - c), as the queries and the band test compute it
-        const double dx = static_cast<double>(x[k]) - c.x;
-        const double dy = static_cast<double>(y[k]) - c.y;
-        const double dz = static_cast<double>(z[k]) - c.z;
-        const double d2 = dx * dx + dy * dy + dz * dz;
-        within += d2 <= radius_squared ? 1 : 0;
-        nearest[k] = d2 < nearest[k] ? d2 : nearest[k];
+      for (const Vec3& c : contacts) {
+        for (std::size_t k = 0; k < count; ++k) {
+          // squared_norm(position - c), as the queries and the band test compute it
+          const double dx = static_cast<double>(x[k]) - c.x;
+          const double dy = static_cast<double>(y[k]) - c.y;
+          const double dz = static_cast<double>(z[k]) - c.z;
+          const double d2 = dx * dx + dy * dy + dz * dz;
+          within += d2 <= radius_squared ? 1 : 0;
+          nearest[k] = d2 < nearest[k] ? d2 : nearest[k];
+        }
       }
       found_last_ += within;
+      if (!visit(begin, count)) {
+        // Past the share that makes the frame global (build()), the rest of the scan could only
+        // add to it: the frame is global already. What the balls found is extrapolated from the
+        // points scanned, for scan_pays() to judge the next build by.
+        const double scanned = static_cast<double>(begin + count);
+        found_last_ = static_cast<std::size_t>(static_cast<double>(found_last_) * static_cast<double>(n) / scanned);
+        return;
+      }
     }
+  };
+  // After a build that went global for its share (a press over much of a small model, frame
+  // after frame), the points are counted before they are listed: the count stops at the share
+  // without writing a point, and the listing follows only when it stays below. The same points
+  // and band either way; only the cost follows the last build.
+  if (went_global_for_share_) {
+    std::size_t held = 0;
+    for_each_chunk([&](std::size_t, std::size_t count) {
+      for (std::size_t k = 0; k < count; ++k) held += nearest[k] <= radius_squared ? 1 : 0;
+      return !past_cheaper_share(held, n);
+    });
+    if (past_cheaper_share(held, n)) {
+      counted_past_share_ = true;
+      return;
+    }
+    found_last_ = 0;
+  }
+  for_each_chunk([&](std::size_t begin, std::size_t count) {
     for (std::size_t k = 0; k < count; ++k) {
       if (!(nearest[k] <= radius_squared)) continue;
       const auto i = static_cast<std::uint32_t>(begin + k);
       points_.push_back(i);
       if (!(nearest[k] <= inner_squared)) border_.push_back(i);
     }
-    // Past the share that makes the frame global (build()), the rest of the scan could only
-    // add to it: the frame is global already. What the balls found is extrapolated from the
-    // points scanned, for scan_pays() to judge the next build by.
-    if (past_cheaper_share(points_.size(), n)) {
-      const double scanned = static_cast<double>(begin + count);
-      found_last_ = static_cast<std::size_t>(static_cast<double>(found_last_) * static_cast<double>(n) / scanned);
-      return;
-    }
-  }
+    return !past_cheaper_share(points_.size(), n);
+  });
 }
 
 }  // namespace sculpt::deform

@@ -102,14 +102,20 @@ TEST(Region, MoreThanTheCheaperShareOfTheModelIsTheGlobalFrame) {
   const PointModel model = make_sphere(5000);
   const PointIndex index(model);
   const std::vector<Vec3> contacts{model.position(10), model.position(2600)};
-  int global = 0, local = 0, scanned_global = 0;
+  // The radius grows past the share and shrinks back below it: after a global build the scan
+  // counts before it lists, and the first region after the global builds is listed in full.
+  std::vector<double> radii;
+  for (int k = 0; k <= 28; ++k) radii.push_back(0.1 + 0.05 * k);
+  for (int k = 27; k >= 0; --k) radii.push_back(0.1 + 0.05 * k);
+  int global = 0, local = 0, scanned_global = 0, scanned_region_after_global = 0;
   for (const bool cheaper : {true, false}) {
     RegionSettings settings;
     settings.kind = RegionSettings::Kind::kRadius;
     settings.radius = 0.1;
     settings.global_when_cheaper = cheaper;
     Region region(settings, model, index, 0.02);
-    for (double radius = 0.1; radius < 1.5; radius += 0.05) {
+    bool last_global = false;
+    for (const double radius : radii) {
       region.set_radius(radius);
       region.build(model, index, 0.0, contacts);
       const Expected e = brute_force(model, contacts, radius, radius - region.border_width());
@@ -122,15 +128,18 @@ TEST(Region, MoreThanTheCheaperShareOfTheModelIsTheGlobalFrame) {
         EXPECT_TRUE(region.border().empty());
       } else {
         local += over ? 1 : 0;
+        scanned_region_after_global += last_global && region.scanned() ? 1 : 0;
         EXPECT_EQ(std::vector<std::uint32_t>(region.points().begin(), region.points().end()), e.points);
         EXPECT_EQ(std::vector<std::uint32_t>(region.border().begin(), region.border().end()), e.border);
       }
+      last_global = region.global();
     }
   }
-  EXPECT_GT(global, 5);      // the sweep crossed the share
+  EXPECT_GT(global, 10);     // the sweep crossed the share both ways
   EXPECT_EQ(local, global);  // the same radii stayed regions when told to
   // A growing radius soon has every point tested; a region's first build queries its balls.
   EXPECT_GT(scanned_global, 0);
+  EXPECT_EQ(scanned_region_after_global, 1);
   RegionSettings wide;
   wide.kind = RegionSettings::Kind::kRadius;
   wide.radius = 1.2;

@@ -158,6 +158,8 @@ class Region {
   BallCache balls_;                      // the balls' candidates, kept across a stroke's frames
   std::size_t found_last_ = 0;           // points the last build's balls held, once per ball
   bool scanned_ = false;                 // the last build scanned
+  bool went_global_for_share_ = false;   // the last build found the global frame the cheaper
+  bool counted_past_share_ = false;      // this build's scan counted past that share, listing nothing
 };
 
 }  // namespace sculpt::deform
