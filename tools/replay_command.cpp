@@ -170,6 +170,9 @@ class ReplayCommand final : public Command {
     auto* out = sub_->add_option("--out", out_path_, "Write the resulting model here (.ply, .off or .xyz)");
     sub_->add_option("--json", json_path_, "Write the report here ('-' for stdout)");
     auto* record = sub_->add_option("--record", record_path_, "Mode rerun: write the re-run's own durable log here");
+    auto* replace_log =
+        sub_->add_flag("--replace-log", replace_log_, "Let --record start afresh a log that holds an earlier session");
+    replace_log->needs(record);
     auto* until =
         sub_->add_option("--until-frame", until_frame_, "Apply the collision frames up to and including this frame id");
     auto* drop = sub_->add_option("--drop-stroke", drop_stroke_, "Leave out this stroke (its number in --list)")
@@ -183,7 +186,7 @@ class ReplayCommand final : public Command {
     // --list only prints the strokes (of the log recovered as replay would, so --skip-damage
     // and --json still apply): everything about a model would be ignored.
     for (CLI::Option* unused :
-         {model, scene, mode, out, record, until, drop, force, sub_->get_option("--bad-normals")}) {
+         {model, scene, mode, out, record, replace_log, until, drop, force, sub_->get_option("--bad-normals")}) {
       list->excludes(unused);
     }
   }
@@ -247,6 +250,7 @@ class ReplayCommand final : public Command {
       refuse_output_naming_input({"--record", record_path_}, std::vector<NamedPath>{{"--out", out_path_},
                                                                                     { "--json",
                                                                                       json_path_ }});
+      if (!replace_log_) refuse_overwriting_log({"--record", record_path_}, "--replace-log");
     }
   }
 
@@ -556,7 +560,7 @@ class ReplayCommand final : public Command {
   std::string log_path_, model_path_, scene_path_, mode_, out_path_, json_path_, record_path_;
   std::optional<std::int64_t> until_frame_;
   std::size_t drop_stroke_ = 0;
-  bool list_ = false, force_ = false, skip_damage_ = false;
+  bool list_ = false, force_ = false, skip_damage_ = false, replace_log_ = false;
   BadNormalsOption bad_normals_;
 };
 

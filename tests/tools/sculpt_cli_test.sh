@@ -459,7 +459,8 @@ expect_exit 0 "generate box --points 15000" -- "$SCULPT" generate box --points 1
 # refused in one line that says how to get it, and the rest of this script (playback) has
 # nothing to play.
 if [[ $with_lcm != ON ]]; then
-  expect_exit 1 "a scene with an event log refused" -- "$SCULPT" run "$scenes/sphere-press.toml" --duration 1 --quiet
+  sed "s|\.\./data/|$repo/data/|; s|\.\./out/|$work/|" "$scenes/sphere-press.toml" >"$work/press-logged.toml"
+  expect_exit 1 "a scene with an event log refused" -- "$SCULPT" run "$work/press-logged.toml" --duration 1 --quiet
   one_line_error "the event log needs LCM, said so" "event log or live publishing, which need LCM; reconfigure with -DSCULPT_WITH_LCM=ON"
   printf 'not a log\n' >"$work/some.lcmlog"
   expect_exit 1 "replay refused" -- "$SCULPT" replay "$work/some.lcmlog" --model "$sphere"
@@ -484,6 +485,17 @@ if cmp -s "$work/transfer.ply" "$work/sphere-squeeze.ply"; then ok "transfer ont
 expect_exit 0 "re-run 1" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode rerun --out "$work/rerun1.ply"
 expect_exit 0 "re-run 2" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode rerun --out "$work/rerun2.ply"
 if cmp -s "$work/rerun1.ply" "$work/rerun2.ply"; then ok "re-run is bit-identical"; else bad "two re-runs differ"; fi
+# A re-run's own log (--record) is kept like a station's: a second re-run refuses to write over
+# it, naming it, unless --replace-log; that flag alone is a usage error.
+rerun_args=("$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode rerun --out "$work/rerun3.ply")
+expect_exit 0 "re-run recording its own log" -- "$SCULPT" replay "${rerun_args[@]}" --record "$work/rerun.lcmlog"
+cp "$work/rerun.lcmlog" "$work/rerun-first.lcmlog"
+expect_exit 2 "re-run refuses to erase the log it recorded before" -- "$SCULPT" replay "${rerun_args[@]}" --record "$work/rerun.lcmlog"
+one_line_error "the refusal names --record and the way to replace it" "\-\-record $work/rerun.lcmlog already holds a session.*--replace-log"
+if cmp -s "$work/rerun.lcmlog" "$work/rerun-first.lcmlog"; then ok "the refused re-run left its log as it was"; else bad "the refused re-run changed the log"; fi
+expect_exit 0 "re-run --replace-log" -- "$SCULPT" replay "${rerun_args[@]}" --record "$work/rerun.lcmlog" --replace-log
+if [[ $work/rerun.lcmlog -nt $work/rerun-first.lcmlog && -s $work/rerun.lcmlog ]]; then ok "--replace-log wrote the log again"; else bad "--replace-log left the log unwritten"; fi
+expect_exit 2 "--replace-log needs --record" -- "$SCULPT" replay "${rerun_args[@]}" --replace-log
 expect_exit 2 "rerun needs a scene" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --mode rerun
 one_line_error "rerun names --scene" "--scene"
 # A corrupt log: playback goes past the damage and says where it was.
