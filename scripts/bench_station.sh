@@ -96,7 +96,9 @@ t_ms() {
 t_before="$(t_ms)"
 for name in bench-2m-t1 bench-2m-t2 bench-2m-z1 sphere100k-circle-t1 sphere100k-circle-t2; do
   echo "bench_station: $name, $duration s" >&2
-  "$sculpt" run "$out/$name.toml" --duration "$duration" --quiet --json "$out/$name.json" >"$out/$name.out" 2>&1 ||
+  # --replace-log: each run's log is this script's own, read below and made again next time.
+  "$sculpt" run "$out/$name.toml" --duration "$duration" --quiet --replace-log --json "$out/$name.json" \
+    >"$out/$name.out" 2>&1 ||
     die "$name failed: see $out/$name.out"
 done
 t_after="$(t_ms)"
