@@ -18,6 +18,8 @@ phase_done() {
 # The tests write into temporary folders and the build trees, never into the checkout: a user's
 # out/ holds their sessions (tests once ran the bundled scene, whose log is out/'s). Checked
 # after each pass against a stamp made before the first.
+# Python's bytecode caches would land beside the scripts the tests import (scripts/__pycache__).
+export PYTHONDONTWRITEBYTECODE=1
 started_stamp="$(mktemp)"
 checkout_untouched() {
   local touched
