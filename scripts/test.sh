@@ -23,7 +23,7 @@ export PYTHONDONTWRITEBYTECODE=1
 started_stamp="$(mktemp)"
 checkout_untouched() {
   local touched
-  touched="$(find "$root" \( -path "$root/build*" -o -path "$root/.git" \) -prune -o -newer "$started_stamp" -print)"
+  touched="$(find "$root" -mindepth 1 \( -path "$root/build*" -o -path "$root/.git" \) -prune -o -newer "$started_stamp" -print)"
   if [[ -n $touched ]]; then
     echo "test: the tests wrote into the checkout:"
     echo "$touched"
