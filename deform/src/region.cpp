@@ -110,12 +110,11 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   moves_model_ =
       std::any_of(contacts.begin(), contacts.end(), [&](const Vec3& c) { return farthest_point_bound(c) <= inner; });
   if (moves_model_) return;
-  counted_past_share_ = false;
-  collect(model, index, drift, contacts, inner * inner);
+  const bool counted_past_share = collect(model, index, drift, contacts, inner * inner);
   balls_.end_frame();
   // The balls may hold every point after all (the box's corners lie beyond the model's points).
   const bool holds_model = points_.size() == model.size() && border_.empty();
-  moves_model_ = holds_model || counted_past_share_ || past_cheaper_share(points_.size(), model.size());
+  moves_model_ = holds_model || counted_past_share || past_cheaper_share(points_.size(), model.size());
   went_global_for_share_ = moves_model_ && !holds_model;
   if (moves_model_ && !holds_model) {  // the cheaper global frame: every point moves, no band
     points_.clear();
@@ -125,12 +124,9 @@ void Region::build(const PointModel& model, const PointIndex& index, double drif
   }
 }
 
-void Region::collect(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts,
+bool Region::collect(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts,
                      double inner_squared) {
-  if (scan_pays(model.size(), contacts.size())) {
-    scan(model, contacts, inner_squared);
-    return;
-  }
+  if (scan_pays(model.size(), contacts.size())) return scan(model, contacts, inner_squared);
   found_last_ = 0;
   // Overlapping balls repeat points: past the reserve the order is dropped, not grown.
   const auto keep_as_found = [&] {
@@ -154,7 +150,7 @@ void Region::collect(const PointModel& model, const PointIndex& index, double dr
     }
     found_.drain(points_);
     band_found_.drain(border_);
-    return;
+    return false;
   }
   // Overlapping balls: a point found twice is listed once, and it is in the band when it is
   // not deeper than the border width inside any ball.
@@ -170,6 +166,7 @@ void Region::collect(const PointModel& model, const PointIndex& index, double dr
                                   [&](const Vec3& c) { return squared_norm(q - c) <= inner_squared; });
     if (!deep) border_.push_back(i);
   }
+  return false;
 }
 
 bool Region::scan_pays(std::size_t model_points, std::size_t contacts) const noexcept {
@@ -179,7 +176,7 @@ bool Region::scan_pays(std::size_t model_points, std::size_t contacts) const noe
   return contacts > 0 && found_last_ * kScanShare >= model_points * contacts;
 }
 
-void Region::scan(const PointModel& model, std::span<const Vec3> contacts, double inner_squared) noexcept {
+bool Region::scan(const PointModel& model, std::span<const Vec3> contacts, double inner_squared) noexcept {
   as_found_complete_ = false;  // points() is the order found
   scanned_ = true;
   found_last_ = 0;
@@ -230,10 +227,7 @@ void Region::scan(const PointModel& model, std::span<const Vec3> contacts, doubl
       for (std::size_t k = 0; k < count; ++k) held += nearest[k] <= radius_squared ? 1 : 0;
       return !past_cheaper_share(held, n);
     });
-    if (past_cheaper_share(held, n)) {
-      counted_past_share_ = true;
-      return;
-    }
+    if (past_cheaper_share(held, n)) return true;
     found_last_ = 0;
   }
   for_each_chunk([&](std::size_t begin, std::size_t count) {
@@ -245,6 +239,7 @@ void Region::scan(const PointModel& model, std::span<const Vec3> contacts, doubl
     }
     return !past_cheaper_share(points_.size(), n);
   });
+  return false;
 }
 
 }  // namespace sculpt::deform

@@ -135,12 +135,14 @@ class Region {
     return settings_.global_when_cheaper && kRegionPointCost * points > model_points;
   }
   // build()'s points and band once no single ball holds the model: by a scan or by the queries.
-  void collect(const PointModel& model, const PointIndex& index, double drift, std::span<const Vec3> contacts,
-               double inner_squared);
+  // Returns whether a scan counted past the cheaper share and so listed nothing (scan()).
+  [[nodiscard]] bool collect(const PointModel& model, const PointIndex& index, double drift,
+                             std::span<const Vec3> contacts, double inner_squared);
   // build() by testing every point: a point is in the region when within the radius of a
   // contact, in the band unless within radius - band of one, by the same comparisons the
-  // queries make.
-  void scan(const PointModel& model, std::span<const Vec3> contacts, double inner_squared) noexcept;
+  // queries make. After a build that went global for its share, the points are counted first,
+  // and it returns true, listing nothing, when the count passes that share.
+  [[nodiscard]] bool scan(const PointModel& model, std::span<const Vec3> contacts, double inner_squared) noexcept;
 
   RegionSettings settings_;
   double border_width_;
@@ -159,7 +161,6 @@ class Region {
   std::size_t found_last_ = 0;           // points the last build's balls held, once per ball
   bool scanned_ = false;                 // the last build scanned
   bool went_global_for_share_ = false;   // the last build found the global frame the cheaper
-  bool counted_past_share_ = false;      // this build's scan counted past that share, listing nothing
 };
 
 }  // namespace sculpt::deform
