@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "support/bundled_scene.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/hal/frame_codec.hpp"
 
@@ -37,37 +38,21 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 const std::string kSculpt = SCULPT_BINARY;
-const std::string kScene = std::string(SCULPT_SOURCE_DIR) + "/scenes/sphere-press.toml";
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+// A copy of the bundled one-finger press for a test, outputs into `dir` and `extra` appended.
 // Built without LCM the station has no event log: a scene asking for one is refused (tested by
 // the command-line script), so these tests run the same scene without its log line.
-[[maybe_unused]] void drop_event_log(std::string& scene_text) {
-  const std::size_t at = scene_text.find("\nlog = ");
-  if (at != std::string::npos) scene_text.erase(at + 1, scene_text.find('\n', at + 1) - at);
-}
-
-// A copy of the bundled one-finger press for a test: absolute model path, outputs into `dir`
-// (never the checkout's out/, which holds a user's sessions), the event log dropped where this
-// build has none, and `extra` appended (sections the bundled scene does not have).
 fs::path scene_copy(const fs::path& dir, const std::string& extra) {
-  std::string text = read_file(kScene);
-  auto replace_all = [&](const std::string& from, const std::string& to) {
-    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
-      text.replace(at, from.size(), to);
-  };
-  replace_all("../data/", std::string(SCULPT_SOURCE_DIR) + "/data/");
-  replace_all("../out/", dir.string() + "/");
-#if !SCULPT_TEST_WITH_LCM
-  drop_event_log(text);
+#if SCULPT_TEST_WITH_LCM
+  return test::copy_bundled_scene(dir, "sphere-press", extra);
+#else
+  return test::copy_bundled_scene(dir, "sphere-press", extra, {{"log = \"../out/sphere-press.lcmlog\"\n", ""}});
 #endif
-  const fs::path scene = dir / "sphere-press.toml";
-  std::ofstream(scene) << text << "\n" << extra << "\n";
-  return scene;
 }
 
 using Process = test::ChildProcess;

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "support/bundled_scene.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
@@ -74,23 +75,6 @@ std::multiset<std::string> payloads_on(const fs::path& path, const std::string& 
   return payloads;
 }
 
-void replace_all(std::string& text, const std::string& from, const std::string& to) {
-  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
-    text.replace(at, from.size(), to);
-  }
-}
-
-// A bundled scene rewritten for a test: absolute model path, outputs into `dir`, and extra
-// sections appended.
-fs::path scene_in(const fs::path& dir, const std::string& name, const std::string& extra) {
-  std::string text = slurp(fs::path(SCULPT_SOURCE_DIR) / "scenes" / (name + ".toml"));
-  replace_all(text, "../data/", std::string(SCULPT_SOURCE_DIR) + "/data/");
-  replace_all(text, "../out/", dir.string() + "/");
-  const fs::path scene = dir / (name + ".toml");
-  std::ofstream(scene) << text << "\n" << extra << "\n";
-  return scene;
-}
-
 std::string unique_url(int offset) {
   return "udpm://239.255.76.67:" + std::to_string(7900 + offset + getpid() % 100 * 3) + "?ttl=0";
 }
@@ -108,7 +92,8 @@ class EventLogHil : public ::testing::Test {
 
 TEST_F(EventLogHil, EveryCollisionIsInTheDurableLogAndOnTheLiveChannel) {
   const std::string url = unique_url(0);
-  const fs::path scene = scene_in(dir_, "sphere-squeeze", "[lcm]\npublish = true\nurl = \"" + url + "\"");
+  const fs::path scene =
+      test::copy_bundled_scene(dir_, "sphere-squeeze", "[lcm]\npublish = true\nurl = \"" + url + "\"");
   const fs::path live = dir_ / "live.lcmlog";
   test::ChildProcess logger({"lcm-logger", "--lcm-url=" + url, "-f", "-q", live.string()}, dir_ / "logger.txt");
   ASSERT_TRUE(logger.started());
@@ -153,7 +138,7 @@ constexpr int kLongRunSeconds = 60;
 #endif
 
 TEST_F(EventLogHil, AMinuteOfFiveFingersAtOneKilohertzLosesNothing) {
-  const fs::path scene = scene_in(dir_, "sphere-five", "");
+  const fs::path scene = test::copy_bundled_scene(dir_, "sphere-five");
   test::ChildProcess run(
       {SCULPT_BINARY, "run", scene.string(), "--duration", std::to_string(kLongRunSeconds), "--quiet"},
       dir_ / "run.txt");
@@ -171,7 +156,7 @@ TEST_F(EventLogHil, AMinuteOfFiveFingersAtOneKilohertzLosesNothing) {
 }
 
 TEST_F(EventLogHil, StockLogplayerDrivesTheStationThroughItsLcmBackend) {
-  const fs::path scene = scene_in(dir_, "sphere-press", "");
+  const fs::path scene = test::copy_bundled_scene(dir_, "sphere-press");
   test::ChildProcess record({SCULPT_BINARY, "run", scene.string(), "--duration", "4", "--quiet"}, dir_ / "record.txt");
   ASSERT_EQ(record.wait(), 0) << slurp(dir_ / "record.txt");
   const nlohmann::json recorded = nlohmann::json::parse(slurp(dir_ / "sphere-press.json"));
@@ -212,8 +197,8 @@ TEST_F(EventLogHil, StockLogplayerDrivesTheStationThroughItsLcmBackend) {
 // (strictly increasing), and the last command releases the finger.
 TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) {
   const std::string url = unique_url(2);
-  const fs::path scene =
-      scene_in(dir_, "sphere-press", "[haptic]\nsink = \"lcm\"\nmax_force = 4.0\n[haptic.lcm]\nurl = \"" + url + "\"");
+  const fs::path scene = test::copy_bundled_scene(
+      dir_, "sphere-press", "[haptic]\nsink = \"lcm\"\nmax_force = 4.0\n[haptic.lcm]\nurl = \"" + url + "\"");
   const fs::path live = dir_ / "haptic.lcmlog";
   test::ChildProcess logger({"lcm-logger", "--lcm-url=" + url, "-f", "-q",
                              "--channel=" + std::string(logging::kHapticChannel), live.string()},
@@ -281,11 +266,9 @@ TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) 
 // are loop ticks (each one a tick that has its own tick_stats_t); in the force form the weights
 // are the effective force, in shear-modulus units x model units squared.
 TEST_F(EventLogHil, RecordedFieldsMeanWhatTheDocsSay) {
-  const fs::path scene =
-      scene_in(dir_, "sphere-press", "[haptic]\nsink = \"lcm\"\n[haptic.lcm]\nurl = \"" + unique_url(3) + "\"");
-  std::string text = slurp(scene);
-  replace_all(text, "form = \"scale\"", "form = \"force\"");
-  std::ofstream(scene) << text;
+  const fs::path scene = test::copy_bundled_scene(
+      dir_, "sphere-press", "[haptic]\nsink = \"lcm\"\n[haptic.lcm]\nurl = \"" + unique_url(3) + "\"",
+      {{"form = \"scale\"", "form = \"force\""}});
   const auto wall_us = [] {
     return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
         .count();

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "hil/child_process.hpp"
+#include "support/bundled_scene.hpp"
 #include "render/png_reader.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/model_io.hpp"
@@ -132,17 +133,8 @@ TEST_F(RenderCommand, DrawsTheLogOfARecordedSessionWhereThePressWas) {
 #if !SCULPT_TEST_WITH_LCM
   GTEST_SKIP() << "built without LCM (-DSCULPT_WITH_LCM=OFF): the station records no event log to draw";
 #endif
-  std::ifstream in(fs::path(SCULPT_SOURCE_DIR) / "scenes" / "sphere-press.toml");
-  std::string scene((std::istreambuf_iterator<char>(in)), {});
-  auto replace = [&](const std::string& from, const std::string& to) {
-    for (std::size_t at = scene.find(from); at != std::string::npos; at = scene.find(from, at + to.size())) {
-      scene.replace(at, from.size(), to);
-    }
-  };
-  replace("../data/", std::string(SCULPT_SOURCE_DIR) + "/data/");
-  replace("../out/", folder_.string() + "/");
-  std::ofstream(path("press.toml")) << scene;
-  ChildProcess station({SCULPT_BINARY, "run", path("press.toml"), "--duration", "3.6", "--quiet"}, path("run.txt"));
+  const fs::path scene = copy_bundled_scene(folder_, "sphere-press");
+  ChildProcess station({SCULPT_BINARY, "run", scene.string(), "--duration", "3.6", "--quiet"}, path("run.txt"));
   ASSERT_EQ(station.wait(std::chrono::seconds(60)), 0);
   std::ifstream summary_file(path("sphere-press.json"));
   const std::string summary((std::istreambuf_iterator<char>(summary_file)), {});

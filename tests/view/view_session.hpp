@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "hil/child_process.hpp"
+#include "support/bundled_scene.hpp"
 #include "sculpt/deform/point_model.hpp"
 
 namespace sculpt::test {
@@ -118,26 +119,10 @@ class SessionFolder : public ::testing::Test {
         .append("?ttl=0");
   }
 
-  /// scenes/<name>.toml with its model path made absolute, its outputs in the folder, each
-  /// `edits` pair's first text replaced by its second, and `extra` appended (a later table of
-  /// the same name is a TOML error, so extra brings tables of its own).
+  /// scenes/<name>.toml copied into the folder (test::copy_bundled_scene).
   fs::path scene(const std::string& name, const std::string& extra,
-                 std::vector<std::pair<std::string, std::string>> edits = {}) const {
-    std::string data = SCULPT_SOURCE_DIR;
-    data += "/data/";
-    std::string out = dir_.string();
-    out += "/";
-    edits.emplace_back("../data/", data);
-    edits.emplace_back("../out/", out);
-    std::string text = read_text(fs::path(SCULPT_SOURCE_DIR) / "scenes" / (name + ".toml"));
-    for (const auto& [from, to] : edits) {
-      for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
-        text.replace(at, from.size(), to);
-      }
-    }
-    const fs::path path = dir_ / (name + ".toml");
-    std::ofstream(path) << text << "\n" << extra << "\n";
-    return path;
+                 const std::vector<std::pair<std::string, std::string>>& edits = {}) const {
+    return copy_bundled_scene(dir_, name, extra, edits);
   }
 
   /// The one-finger press with a dead band below one glove sample's step, so that the press
