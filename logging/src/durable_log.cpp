@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <lcm/lcm-cpp.hpp>
@@ -58,18 +60,48 @@ DurableLog::DurableLog(DurableLogConfig config)
                                config_.path + "': " + error.message());
     }
   }
+  lock_writer();
   event_ = std::make_unique<lcm::LogEvent>();
   errno = 0;
   file_ = std::make_unique<lcm::LogFile>(config_.path, "w");
   if (!file_->good()) {
     const int saved = errno;
     file_.reset();
+    release_writer_lock();
     throw std::runtime_error("DurableLog: cannot open '" + config_.path + "' for writing" +
                              (saved != 0 ? std::string(": ") + std::strerror(saved) : std::string()));
   }
 }
 
-DurableLog::~DurableLog() { stop(); }
+DurableLog::~DurableLog() { stop(); }  // stop() closes the file and releases the lock
+
+void DurableLog::lock_writer() {
+  // One writer per log, for as long as it writes: two sessions started on the same log (a scene
+  // run twice at once, a replay recording where a station writes) would otherwise both truncate
+  // it and interleave their events. The lock is taken before the file is truncated, so the
+  // refused session leaves the other's log as it is. flock is advisory and held by this open
+  // file description, so readers (the viewer, sculpt replay) are not stopped.
+  lock_fd_ = ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0) {
+    throw std::runtime_error("DurableLog: cannot open '" + config_.path + "' for writing: " + std::strerror(errno));
+  }
+  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int saved = errno;
+    release_writer_lock();
+    if (saved == EWOULDBLOCK) {
+      throw std::runtime_error("DurableLog: '" + config_.path +
+                               "' is being written by another running session (a station or a replay "
+                               "recording): its log is left as it is; stop that session or name another log");
+    }
+    throw std::runtime_error("DurableLog: cannot lock '" + config_.path + "' for writing: " + std::strerror(saved));
+  }
+}
+
+void DurableLog::release_writer_lock() noexcept {
+  if (lock_fd_ < 0) return;
+  ::close(lock_fd_);  // closing the last descriptor of the open file releases its flock
+  lock_fd_ = -1;
+}
 
 void DurableLog::write_session_header(const sculpt_lcm::session_header_t& header) {
   if (thread_.joinable() || event_number_ != 0 || file_ == nullptr) {
@@ -269,7 +301,8 @@ void DurableLog::flush(bool sync) noexcept {
 void DurableLog::close() noexcept {
   if (file_ == nullptr) return;
   flush(true);
-  file_.reset();  // lcm_eventlog_destroy closes the FILE
+  file_.reset();          // lcm_eventlog_destroy closes the FILE
+  release_writer_lock();  // after the last write: the next writer finds the log complete
 }
 
 void DurableLog::run() noexcept {

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -36,6 +37,19 @@ namespace {
 std::string temp_path(const std::string& name) {
   static const test::ScratchDir kScratch("sculpt_durable_test_");
   return (kScratch.path() / name).string();
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void record_ticks(DurableLog& log, std::int64_t first, std::int64_t count) {
+  TickRecord tick;
+  for (std::int64_t i = first; i < first + count; ++i) {
+    tick.tick = i;
+    ASSERT_TRUE(log.record(tick));
+  }
 }
 
 CollisionRecord make_collision(std::int64_t i, std::int64_t utime) {
@@ -366,6 +380,45 @@ TEST(DurableLog, UnwritablePathThrowsNamingIt) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(config.path), std::string::npos) << e.what();
   }
+}
+
+// Two sessions on one log (a scene run twice at once) would both truncate it and interleave
+// their events. The second writer is refused before it truncates, naming the log, and the first
+// session's bytes stay as they were; once the first has stopped, the log can be replaced.
+TEST(DurableLog, ASecondWriterIsRefusedAndTheFirstSessionsLogStaysAsItWas) {
+  DurableLogConfig config;
+  config.path = temp_path("two_writers.lcmlog");
+  DurableLog first(config);
+  first.start();
+  record_ticks(first, 0, 50);
+  first.flush_now();
+  const std::string before = file_bytes(config.path);
+  ASSERT_FALSE(before.empty());
+  try {
+    DurableLog second(config);
+    FAIL() << "a second writer was let in";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("'" + config.path + "' is being written by another running session"), std::string::npos)
+        << message;
+  }
+  EXPECT_EQ(file_bytes(config.path), before);
+  record_ticks(first, 50, 50);  // the first session goes on writing where it was
+  first.stop();
+  const std::string complete = file_bytes(config.path);
+  EXPECT_GT(complete.size(), before.size());
+  EXPECT_EQ(complete.compare(0, before.size(), before), 0);
+  {
+    EventLogReader reader(config.path);
+    LogEvent event;
+    std::size_t ticks = 0;
+    while (reader.next(event) == EventLogReader::Result::kEvent) ticks += event.channel == kTickChannel ? 1 : 0;
+    EXPECT_EQ(ticks, 100u);
+    EXPECT_EQ(reader.corrupt_events(), 0u);
+  }
+  DurableLog next(config);  // stopped: the lock is released, and a new session replaces the log
+  next.stop();
+  EXPECT_EQ(std::filesystem::file_size(config.path), 0u);
 }
 
 // lcm-logplayer replays the file onto loopback multicast; a raw subscriber counts what arrives.

@@ -339,6 +339,24 @@ if [[ $with_lcm == ON ]]; then
   expect_exit 0 "run --replace-log starts the log afresh" -- "$SCULPT" run "$press_scene" --duration 0.3 --quiet \
     --replace-log --out "$work/run2.ply" --json "$work/report2.json"
   if cmp -s "$work/sphere-press.lcmlog" "$work/first-session.lcmlog"; then bad "--replace-log kept the old log"; else ok "--replace-log replaced the log"; fi
+  # The scene started twice at once: the second session is refused even with --replace-log,
+  # before it truncates the log the first is writing, and the first's log stays whole (base
+  # model + log = its sculpted model).
+  "$SCULPT" run "$press_scene" --duration 4 --quiet --replace-log --out "$work/first.ply" --json "$work/first.json" \
+    >"$work/first.out" 2>&1 &
+  first_run=$!
+  for _ in $(seq 200); do [[ -s $work/sphere-press.lcmlog ]] && break; sleep 0.05; done
+  expect_exit 1 "a second session on a log being written is refused" -- "$SCULPT" run "$press_scene" --duration 0.3 \
+    --quiet --replace-log --out "$work/second.ply" --json "$work/second.json"
+  one_line_error "the refusal names the log another session writes" "'$work/sphere-press.lcmlog' is being written by another running session"
+  if wait "$first_run"; then ok "the first session ran on"; else bad "the first session failed: $(head -c 300 "$work/first.out")"; fi
+  expect_exit 0 "replay the first session's log" -- "$SCULPT" replay "$work/sphere-press.lcmlog" --model "$sphere" \
+    --out "$work/first-replayed.ply"
+  if cmp -s "$work/first-replayed.ply" "$work/first.ply" && [[ ! -e $work/second.ply ]]; then
+    ok "the first session's log is whole: its replay is its sculpted model"
+  else
+    bad "the first session's log does not replay to its model, or the refused session wrote one"
+  fi
 fi
 sed 's/^rate_hz = 80/ratee_hz = 80/' "$scenes/sphere-press.toml" > "$work/typo.toml"
 if grep -q ratee_hz "$work/typo.toml"; then

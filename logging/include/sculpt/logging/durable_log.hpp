@@ -30,6 +30,7 @@ namespace sculpt::logging {
 
 struct DurableLogConfig {
   std::string path;  ///< the log file; parent folders are created, an existing file is replaced
+                     ///< unless another DurableLog is writing it
   /// Records of all kinds between the loop and the thread. One record slot is the size of the
   /// largest record (a glove sample, ~400 bytes), so the default reserves about 25 MiB.
   std::size_t queue_capacity = 65536;
@@ -64,8 +65,10 @@ class DurableLog {
     std::uint64_t dropped() const noexcept;
   };
 
-  /// Creates the parent folders, opens the file for writing and reserves the queue.
-  /// @throw std::runtime_error naming the path when the folder or file cannot be created.
+  /// Creates the parent folders, takes the log's writer lock, opens the file for writing and
+  /// reserves the queue. The lock is held until stop() has closed the file.
+  /// @throw std::runtime_error naming the path when the folder or file cannot be created, or
+  /// when another DurableLog (in any process) is writing it; that log is then left untouched.
   explicit DurableLog(DurableLogConfig config);
   /// Calls stop().
   ~DurableLog();
@@ -125,9 +128,13 @@ class DurableLog {
   void write_message(LogKind kind, std::int64_t utime, const Message& message) noexcept;
   void flush(bool sync) noexcept;
   void close() noexcept;
+  // Opens the log and takes its writer lock (flock), or throws naming the path.
+  void lock_writer();
+  void release_writer_lock() noexcept;
 
   DurableLogConfig config_;
   std::unique_ptr<lcm::LogFile> file_;  // owned by the thread while it runs
+  int lock_fd_ = -1;                    // holds the writer lock until the file is closed
   base::SpscQueue<Entry> queue_;
   std::array<std::string, kLogKinds> channels_;  // made once so writes need not build names
   std::unique_ptr<lcm::LogEvent> event_;         // reused by every write, like its channel string
