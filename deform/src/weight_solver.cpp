@@ -336,13 +336,17 @@ bool svd_solve(int n, const SquareRows& r, const std::array<double, kMaxUnknowns
 // The smallest and the largest eigenvalue of the symmetric tridiagonal matrix with diagonal a
 // and squared off-diagonal b2, by bisection on Sturm counts (the number of negative pivots of
 // T - x I is the number of eigenvalues below x), eight shifts at a time for each end, so that
-// each step narrows both brackets ninefold, to within a few ulps of the largest magnitude (the
-// accuracy the entries carry anyway). Eigen's implicit QL for every eigenvalue took 2 to 6 us
-// where only these two are needed. The two ends' counts are independent chains of divisions,
-// so they overlap.
+// each step narrows both brackets ninefold, to a relative 1e-10 of each end (below). Eigen's
+// implicit QL for every eigenvalue took 2 to 6 us where only these two are needed. The two
+// ends' counts are independent chains of divisions, so they overlap.
 struct Extremes {
   double lowest, highest;
 };
+
+// Each end is wanted to this relative width of itself: the condition number the two give is then
+// good to about 1e-10, where the report and its tests need 1e-6. A few ulps of the largest
+// magnitude, the bound before, took a third more steps on a well-conditioned matrix.
+constexpr double kEigenvalueRelativeTolerance = 1e-10;
 
 Extremes extreme_eigenvalues(int n, const std::array<double, kMaxUnknowns>& a,
                              const std::array<double, kMaxUnknowns>& b2) noexcept {
@@ -361,7 +365,9 @@ Extremes extreme_eigenvalues(int n, const std::array<double, kMaxUnknowns>& a,
   // LAPACK's dstebz: a pivot smaller than this is replaced by its negative, so no division by
   // zero, and the count stays that of a nearby matrix.
   const double pivot_floor = std::numeric_limits<double>::min() * std::max(1.0, largest_b2);
-  const double tolerance = 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(low), std::abs(high));
+  // Never finer than a few ulps of the largest magnitude, which is all the entries carry (the
+  // smallest end of a poorly conditioned matrix stops there; kEigenvalueRelativeTolerance).
+  const double ulp_floor = 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(low), std::abs(high));
   // Negative counts of the eigenvalues below each lane's shift (a true comparison is -1).
   auto below = [&](const Lanes& x) {
     Lanes d = a[0] - x;
@@ -378,7 +384,9 @@ Extremes extreme_eigenvalues(int n, const std::array<double, kMaxUnknowns>& a,
   struct Bracket {
     double lo, hi;
     std::int64_t rank;
-    double width() const { return hi - lo; }
+    bool settled(double ulp_floor) const {
+      return hi - lo <= std::max(ulp_floor, kEigenvalueRelativeTolerance * std::max(std::abs(lo), std::abs(hi)));
+    }
     Lanes shifts() const {
       Lanes at;
       for (int l = 0; l < kLanes; ++l) at[l] = lo + (hi - lo) * (l + 1) / (kLanes + 1);
@@ -398,7 +406,7 @@ Extremes extreme_eigenvalues(int n, const std::array<double, kMaxUnknowns>& a,
     }
   };
   Bracket lowest{low, high, 1}, highest{low, high, n};
-  for (int step = 0; step < 64 && (lowest.width() > tolerance || highest.width() > tolerance); ++step) {
+  for (int step = 0; step < 64 && !(lowest.settled(ulp_floor) && highest.settled(ulp_floor)); ++step) {
     const Lanes at_low = lowest.shifts(), at_high = highest.shifts();
     const Counts low_count = below(at_low), high_count = below(at_high);
     lowest.narrow(at_low, low_count);
