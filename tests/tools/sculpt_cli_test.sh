@@ -342,7 +342,8 @@ if [[ $with_lcm == ON ]]; then
   # The scene started twice at once: the second session is refused even with --replace-log,
   # before it truncates the log the first is writing, and the first's log stays whole (base
   # model + log = its sculpted model).
-  "$SCULPT" run "$press_scene" --duration 4 --quiet --replace-log --out "$work/first.ply" --json "$work/first.json" \
+  rm -f "$work/sphere-press.lcmlog"  # so that its bytes appear only once the first session holds it
+  "$SCULPT" run "$press_scene" --duration 4 --quiet --out "$work/first.ply" --json "$work/first.json" \
     >"$work/first.out" 2>&1 &
   first_run=$!
   for _ in $(seq 200); do [[ -s $work/sphere-press.lcmlog ]] && break; sleep 0.05; done
@@ -366,9 +367,10 @@ else
   bad "could not plant a typo in sphere-press.toml (rate_hz line changed?)"
 fi
 # Scene lengths are checked against the model once it is loaded, named by their key.
-# deform_scene LINE FILE: sphere-press with LINE added to [deform] and its data path absolute.
+# deform_scene LINE FILE: sphere-press with LINE added to [deform], its data path absolute and
+# its outputs in $work.
 deform_scene() {
-  sed "s|\.\./data/|$repo/data/|; s|^mode = \"push\"|mode = \"push\"\n$1|" "$scenes/sphere-press.toml" >"$2"
+  sed "s|\.\./data/|$repo/data/|; s|\.\./out/|$work/deform-scene-|; s|^mode = \"push\"|mode = \"push\"\n$1|" "$scenes/sphere-press.toml" >"$2"
   grep -q "^$1\$" "$2" || bad "could not add '$1' to sphere-press.toml (its mode line changed?)"
 }
 deform_scene "delta_d = 1e30" "$work/huge-delta.toml"
