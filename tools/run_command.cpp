@@ -218,6 +218,12 @@ class RunCommand final : public Command {
     std::printf("         %llu glove samples, %llu collision frames, %llu collisions\n",
                 static_cast<unsigned long long>(t.samples), static_cast<unsigned long long>(t.frames),
                 static_cast<unsigned long long>(t.collisions));
+    if (t.out_of_range > 0) {  // a glove sending inf or 1e30 otherwise shows only as no collisions
+      std::printf(
+          "dropped  %llu glove samples or fingertips holding an inf or NaN or lying far outside the model "
+          "(faults.out_of_range)\n",
+          static_cast<unsigned long long>(t.out_of_range));
+    }
     if (t.collision_frame_time.count() > 0) {
       std::printf("         deformation in frames with a collision: median %.4g us p99.9 %.4g us max %.4g us\n",
                   static_cast<double>(t.collision_frame_time.median()) * 1e-3,

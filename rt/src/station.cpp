@@ -108,13 +108,20 @@ void Station::take_samples(std::int64_t now_ns) noexcept {
     for (std::size_t i = 0; i < n; ++i) {
       const hal::GloveSample& s = inbox_[i];
       if (s.hand >= hal::kHands) continue;
+      // An inf or NaN anywhere makes the sample unusable, as the LCM decoder already rules: it
+      // is counted and neither logged nor taken, so it keeps no hand alive and the log (which
+      // replay refuses such a sample from) stays the session's exact history.
+      if (!hal::all_finite(s)) {
+        ++totals_.out_of_range;
+        continue;
+      }
       newest_[s.hand] = s;
+      ++report_.samples;
       if (recorder_) recorder_->glove_sample(s);
       has_sample_[s.hand] = true;
       fresh_[s.hand] = true;
       last_sample_ns_[s.hand] = std::max(last_sample_ns_[s.hand], s.receive_time_ns);
     }
-    report_.samples += n;
     if (n < inbox_.size()) break;
   }
   totals_.samples += report_.samples;
@@ -151,6 +158,14 @@ void Station::update_fingers(std::int64_t) noexcept {
     FingerState& f = fingers_[i];
     f.tracked = true;
     f.raw = {tips[id.finger][0], tips[id.finger][1], tips[id.finger][2]};
+    // An inf or NaN is dropped before the filter, which would hold its last output for it (the
+    // origin, before any sample) and hand that on as the finger's new position.
+    if (!deform::is_finite(f.raw)) {
+      f.filtered = f.registered = f.raw;
+      ++totals_.out_of_range;
+      track.filter.reset();
+      continue;
+    }
     const double t = static_cast<double>(sample.device_time_us) * 1e-6;
     f.filtered = settings_.filter_enabled ? to_vec3(track.filter.filter(to_array(f.raw), t)) : f.raw;
     f.registered = to_vec3(settings_.registration.apply(to_array(f.filtered)));

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <deque>
+#include <limits>
 #include <thread>
 
 #include "sculpt/deform/generators.hpp"
@@ -412,6 +413,54 @@ TEST(Station, CountsEachHandsTicksInContactAndTheCommandsItsSinkTookInThem) {
   EXPECT_LT(totals.contact_commands[0], totals.contact_ticks[0]) << "the refusals must show";
   EXPECT_EQ(totals.contact_ticks[1], 0u);
   EXPECT_EQ(totals.contact_commands[1], 0u);
+}
+
+// A glove frame with a valid CRC may carry inf or NaN (a sim glove with a jitter of 1e308 made
+// them). Each such fingertip is dropped and counted, with the filter on as at the station: the
+// filter holds its last output for a non-finite value, and that output was the origin, inside
+// the sphere, which once made a collision from nothing. Between them a good stroke still presses.
+TEST(Station, ANonFiniteFingertipIsDroppedAndCountedNeverFilteredIntoAPosition) {
+  deform::PointModel sphere = deform::make_sphere();
+  const deform::PointModel before = sphere;
+  auto glove = std::make_unique<FakeGlove>();
+  FakeGlove* g = glove.get();
+  StationSettings settings = press_settings();
+  settings.filter_enabled = true;
+  settings.filter.min_cutoff = 50.0;  // follows the press within a few samples
+  Station station(sphere, settings, std::move(glove), nullptr);
+  station.start();
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::int64_t now = 0;
+  std::uint64_t collisions = 0;
+  const auto sample = [&](const deform::Vec3& tip) {
+    g->feed(tip, now + kMs, static_cast<std::uint64_t>((now + kMs) / 1000));
+    for (int t = 0; t < 5; ++t) {  // one sample per five ticks of a 1 kHz loop
+      now += kMs;
+      collisions += station.tick(now, kMs).collisions;
+    }
+  };
+  sample({-inf, -inf, inf});  // the first sample: the filter has no output yet
+  sample({inf, inf, -inf});
+  sample({nan, 0.0, 1.3});
+  EXPECT_EQ(station.totals().out_of_range, 3u);
+  EXPECT_EQ(station.tick(now + kMs, kMs).glove, GloveState::kWaiting);  // none of them made the hand live
+  EXPECT_EQ(collisions, 0u);
+  EXPECT_EQ(sphere.x, before.x);
+  EXPECT_EQ(sphere.y, before.y);
+  EXPECT_EQ(sphere.z, before.z);
+  now += kMs;
+  for (int i = 0; i <= 20; ++i) sample({0.0, 0.0, 1.3 - 0.02 * i});  // a press down to 0.9
+  EXPECT_GT(collisions, 0u);
+  EXPECT_EQ(station.totals().out_of_range, 3u);
+  const deform::PointModel pressed = sphere;
+  const std::uint64_t pressing = collisions;
+  sample({0.0, inf, 0.9});  // mid-press: held, not taken for the last good position
+  sample({0.0, 0.0, nan});
+  EXPECT_EQ(station.totals().out_of_range, 5u);
+  EXPECT_EQ(collisions, pressing);
+  EXPECT_EQ(sphere.z, pressed.z);
+  for (std::size_t i = 0; i < sphere.size(); ++i) ASSERT_TRUE(deform::is_finite(sphere.position(i))) << i;
 }
 
 TEST(Station, RejectsBadFingerLists) {

@@ -359,6 +359,22 @@ if [[ $with_lcm == ON ]]; then
     bad "the first session's log does not replay to its model, or the refused session wrote one"
   fi
 fi
+# A glove whose samples are all inf (a sim jitter of 1e308, as a hostile frame with a valid CRC
+# would be): every sample is dropped and counted, none presses, and the summary says so. The
+# filter used to turn the first one into the origin, inside the sphere, and press from there.
+sed "s|\.\./data/|$repo/data/|; s|\.\./out/|$work/inf-glove-|; s|^\[glove.sim\]\$|[glove.sim]\njitter = 1e308|" "$scenes/sphere-press.toml" >"$work/inf-glove.toml"
+if grep -q '^jitter = 1e308$' "$work/inf-glove.toml"; then
+  expect_exit 0 "run a glove that sends inf" -- "$SCULPT" run "$work/inf-glove.toml" --duration 1.5 \
+    --out "$work/inf-glove.ply" --json "$work/report.json"
+  expect_json "every inf sample dropped and counted, none pressed" "j['collisions'] == 0 and j['samples_taken'] == 0 and j['faults']['out_of_range'] > 100 and j['recording']['log']['glove_samples'] == 0"
+  if grep -q "^dropped  [0-9]* glove samples or fingertips holding an inf or NaN" "$work/out"; then
+    ok "the summary names the dropped samples"
+  else
+    bad "no dropped line in: $(cat "$work/out")"
+  fi
+else
+  bad "could not add a jitter to sphere-press.toml (its [glove.sim] line changed?)"
+fi
 sed 's/^rate_hz = 80/ratee_hz = 80/' "$scenes/sphere-press.toml" > "$work/typo.toml"
 if grep -q ratee_hz "$work/typo.toml"; then
   expect_exit 2 "scene with a typo" -- "$SCULPT" run "$work/typo.toml" --duration 1

@@ -2,6 +2,7 @@
 // What a glove delivers, whatever the transport: one timestamped sample per hand.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -44,5 +45,24 @@ struct GloveSample {
   std::array<FingerAngles, kFingers> angles{};
   WristPose wrist;
 };
+
+/// Whether every number the sample carries is finite. The binary codecs refuse a frame that is
+/// not (a framing error), but a sample can also come from a simulation or a decoder that cannot
+/// tell, and one inf would reach a position through the filter.
+inline bool all_finite(const GloveSample& s) noexcept {
+  const auto finite = [](const auto& values) {
+    for (const float v : values) {
+      if (!std::isfinite(v)) return false;
+    }
+    return true;
+  };
+  for (const Point3f& p : s.joints) {
+    if (!finite(p)) return false;
+  }
+  for (const FingerAngles& a : s.angles) {
+    if (!finite(a)) return false;
+  }
+  return finite(s.wrist.position) && finite(s.wrist.orientation);
+}
 
 }  // namespace sculpt::hal

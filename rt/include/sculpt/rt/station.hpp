@@ -98,8 +98,10 @@ struct StationTotals {
   /// from a tick the machine held up: on these VMs the hypervisor reports no steal time, so a
   /// preempted tick grows on the thread's CPU clock too.
   LatencyHistogram collision_frame_time;
-  deform::GuardCounts guards;      ///< every stability guard that acted, summed
-  std::uint64_t out_of_range = 0;  ///< fingertips dropped: not finite or far outside the model
+  deform::GuardCounts guards;  ///< every stability guard that acted, summed
+  /// Dropped: fingertips not finite or far outside the model, and glove samples holding an inf
+  /// or NaN anywhere (neither logged nor taken).
+  std::uint64_t out_of_range = 0;
   /// Strokes whose summed reaction stopped being finite: the finger's force is released (the
   /// safe state), its sum restarted, and the station goes on. Never expected; counted if it is.
   std::uint64_t haptic_faults = 0;
