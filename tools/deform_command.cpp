@@ -8,6 +8,7 @@
 #include <cstring>
 #include <iostream>
 #include <stdexcept>
+#include <vector>
 
 #include "bad_normals_option.hpp"
 #include "commands.hpp"
@@ -178,6 +179,9 @@ class DeformCommand final : public Command {
                                     (out_path_.empty() ? std::string(" (no --out given)") : ", not " + out_path_));
       }
       if (!(border_weight_ >= 0.0)) throw std::invalid_argument("--border-weight must be >= 0");
+      // --out may replace the model (an edit in place, written atomically); the JSON may not.
+      refuse_output_naming_input({"--json", json_path_}, std::vector<NamedPath>{{"the model (--model)", model_path_}});
+      refuse_shared_outputs(std::vector<NamedPath>{{"--out", out_path_}, {"--json", json_path_}});
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt deform: error: " << e.what() << "\n";
       return kExitUsage;

@@ -39,6 +39,18 @@ void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPa
   }
 }
 
+void refuse_shared_outputs(std::span<const NamedPath> outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    if (!names_a_file(outputs[i].path)) continue;
+    for (std::size_t j = i + 1; j < outputs.size(); ++j) {
+      if (!names_a_file(outputs[j].path) || !same_file(outputs[i].path, outputs[j].path)) continue;
+      throw std::invalid_argument(outputs[j].what + " " + outputs[j].path + " is also " + outputs[i].what + " (" +
+                                  outputs[i].path +
+                                  "): two outputs may not share a file, one would overwrite the other");
+    }
+  }
+}
+
 void refuse_overwriting_log(const NamedPath& log, const std::string& replace_flag) {
   if (!names_a_file(log.path)) return;
   std::error_code error;

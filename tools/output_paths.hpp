@@ -19,6 +19,11 @@ struct NamedPath {
 /// weakly canonical path. Empty paths and "-" (stdout) name no file and are passed over.
 void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPath> inputs);
 
+/// Throws std::invalid_argument ("--json a.ply is also --out (a.ply): ...") when two of
+/// `outputs` name the same file, judged as refuse_output_naming_input judges: a session's JSON
+/// written over its model or its log would lose them after all the work.
+void refuse_shared_outputs(std::span<const NamedPath> outputs);
+
 /// Throws std::invalid_argument naming `option` when `path` is not .ply, .off or .xyz (what
 /// deform::write_model writes).
 void refuse_unwritable_model_format(const std::string& option, const std::string& path);

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <map>
 #include <stdexcept>
+#include <vector>
 
 #include "commands.hpp"
 #include "number_check.hpp"
@@ -187,6 +188,9 @@ class RenderCommand final : public Command {
       request_.views = views_;
       request_.up = up_ == "x" ? render::UpAxis::kX : up_ == "z" ? render::UpAxis::kZ : render::UpAxis::kY;
       check_output_path(out_path_);
+      refuse_output_naming_input({"--out", out_path_}, std::vector<NamedPath>{{"the model", model_path_},
+                                                                              {"--compare", before_path_},
+                                                                              {"the log (--log)", log_path_}});
 #if !SCULPT_HAS_LCM
       if (!log_path_.empty()) {
         std::cerr << "sculpt render: error: --log needs LCM; reconfigure with -DSCULPT_WITH_LCM=ON\n";

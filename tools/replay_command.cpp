@@ -246,12 +246,11 @@ class ReplayCommand final : public Command {
                                     }}) {
       refuse_output_naming_input(output, inputs);
     }
-    if (!record_path_.empty()) {
-      refuse_output_naming_input({"--record", record_path_}, std::vector<NamedPath>{{"--out", out_path_},
-                                                                                    { "--json",
-                                                                                      json_path_ }});
-      if (!replace_log_) refuse_overwriting_log({"--record", record_path_}, "--replace-log");
-    }
+    refuse_shared_outputs(std::vector<NamedPath>{{"--out", out_path_},
+                                                 {"--json", json_path_},
+                                                 { "--record",
+                                                   record_path_ }});
+    if (!record_path_.empty() && !replace_log_) refuse_overwriting_log({"--record", record_path_}, "--replace-log");
   }
 
   static SessionLog read_log(const std::string& path) {

@@ -100,10 +100,9 @@ class RunCommand final : public Command {
       const std::string log = scene.output.log.value_or("");
       if (!out.empty()) refuse_unwritable_model_format("--out", out);
       const std::vector<NamedPath> inputs = {{"the scene", scene_path_}, {"the scene's base model", scene.model.path}};
-      for (const NamedPath& output :
-           {NamedPath{"--out", out}, NamedPath{"--json", json}, NamedPath{"output.log", log}}) {
-        refuse_output_naming_input(output, inputs);
-      }
+      const std::vector<NamedPath> outputs = {{"--out", out}, {"--json", json}, {"output.log", log}};
+      for (const NamedPath& output : outputs) refuse_output_naming_input(output, inputs);
+      refuse_shared_outputs(outputs);
       if (!replace_log_) refuse_overwriting_log({scene_path_ + ": output.log", log}, "--replace-log");
       if (json == "-") reserve_stdout_for_json();
     } catch (const std::invalid_argument& e) {

@@ -614,6 +614,36 @@ one_line_error "--out naming --model refused" "is the model"
 cmp -s "$work/model-copy.ply" "$sphere" && ok "the model is untouched" || bad "--out overwrote the model"
 expect_exit 2 "--json naming the log" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --json "$work/../$(basename "$work")/sphere-squeeze.lcmlog"
 one_line_error "--json naming the log refused" "is the log"
+# Two outputs naming one file: one would overwrite the other after all the work (a JSON over
+# the sculpted model, or over the session's log). Each command refuses before it starts.
+cp "$work/sphere-squeeze.lcmlog" "$work/kept.lcmlog"
+shared_output() {  # NAME MESSAGE COMMAND...: exit 2, one line naming MESSAGE
+  local name="$1" message="$2"
+  shift 2
+  expect_exit 2 "$name" -- "$@"
+  one_line_error "$name: refused naming both" "$message"
+}
+shared_output "run --json over --out" "--json $work/a.ply is also --out ($work/a.ply): two outputs may not share a file" \
+  "$SCULPT" run "$work/squeeze.toml" --duration 1 --quiet --replace-log --out "$work/a.ply" --json "$work/a.ply"
+shared_output "run --json over the scene's log" "output.log $work/sphere-squeeze.lcmlog is also --json ($work/./sphere-squeeze.lcmlog): two outputs may not share a file, one would overwrite the other" \
+  "$SCULPT" run "$work/squeeze.toml" --duration 1 --quiet --replace-log --json "$work/./sphere-squeeze.lcmlog"
+shared_output "replay --json over --out" "--json $work/r.ply is also --out" \
+  "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/r.ply" --json "$work/r.ply"
+shared_output "deform --json over --out" "--json $work/d.ply is also --out" \
+  "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/d.ply" --json "$work/d.ply"
+shared_output "deform --json over the model" "--json $work/model-copy.ply is the model (--model)" \
+  "$SCULPT" deform --model "$work/model-copy.ply" --contact 0,0,1.1:0,0,0.95 --json "$work/model-copy.ply"
+shared_output "report --json over the session" "--json $work/sphere-squeeze.lcmlog is the session" \
+  "$SCULPT" report "$work/sphere-squeeze.lcmlog" --out "$work/shared-report" --json "$work/sphere-squeeze.lcmlog"
+cp "$work/kept.lcmlog" "$work/log.png"
+shared_output "render --out over --log" "--out $work/log.png is the log (--log)" \
+  "$SCULPT" render "$sphere" --log "$work/log.png" --out "$work/log.png"
+if cmp -s "$work/sphere-squeeze.lcmlog" "$work/kept.lcmlog" && cmp -s "$work/log.png" "$work/kept.lcmlog" &&
+  cmp -s "$work/model-copy.ply" "$sphere" && [[ ! -e $work/a.ply && ! -e $work/r.ply && ! -e $work/d.ply ]]; then
+  ok "the refused commands left the log and the model as they were and wrote nothing"
+else
+  bad "a refused command changed a log or a model, or wrote an output"
+fi
 ln -s "$sphere" "$work/base-link.ply"
 expect_exit 2 "--out naming the scene's base model through a link" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/sphere500.ply" --scene "$work/squeeze.toml" --mode both --out "$work/base-link.ply"
 one_line_error "--out naming the scene's base model refused" "the scene's base model"
