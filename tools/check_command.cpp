@@ -173,10 +173,10 @@ class CheckCommand final : public Command {
                     {"worst_deviation", {{"single_frame", worst_single}, {"stroke", worst_stroke}}}}}};
       stamp_summary(doc);
       if (json_path_ == "-") {
-        std::cout << doc.dump(2) << "\n";
+        std::cout << json_text(doc);
       } else {
         try {
-          deform::write_file_atomically(json_path_, doc.dump(2) + "\n");
+          deform::write_file_atomically(json_path_, json_text(doc));
         } catch (const deform::ModelFileError& e) {
           std::cerr << "sculpt check: error: " << e.what() << "\n";
           return kExitFailure;

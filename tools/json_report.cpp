@@ -30,8 +30,12 @@ void reserve_stdout_for_json() {
   g_json_fd = saved;
 }
 
+std::string json_text(const nlohmann::json& summary) {
+  return summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
 void write_json(const std::string& path, const nlohmann::json& summary) {
-  const std::string text = summary.dump(2) + "\n";
+  const std::string text = json_text(summary);
   if (path != "-") {
     deform::write_file_atomically(path, text);
     return;

@@ -19,7 +19,12 @@ void stamp_summary(nlohmann::json& summary);
 /// still reaches the original stdout. Call once, before anything is printed.
 void reserve_stdout_for_json();
 
-/// Writes `summary` (indented, one trailing newline) to stdout for "-", else atomically to the
+/// `summary` as text, indented, with one trailing newline. A byte that is not UTF-8 (a file name
+/// or a scene's text, which Linux lets hold any byte) is written as U+FFFD: JSON must be UTF-8,
+/// and failing there would lose the summary after all the work.
+std::string json_text(const nlohmann::json& summary);
+
+/// Writes `summary` (json_text) to stdout for "-", else atomically to the
 /// file (deform::write_file_atomically).
 void write_json(const std::string& path, const nlohmann::json& summary);
 

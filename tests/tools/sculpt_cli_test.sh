@@ -375,6 +375,13 @@ if grep -q '^jitter = 1e308$' "$work/inf-glove.toml"; then
 else
   bad "could not add a jitter to sphere-press.toml (its [glove.sim] line changed?)"
 fi
+# A scene whose name holds a byte that is not UTF-8 (Linux allows any): the JSON summary, which
+# must be UTF-8, used to fail after the whole session; the byte is now written as U+FFFD.
+odd_scene="$work/odd-$(printf '\xff').toml"
+sed "s|\.\./data/|$repo/data/|; s|\.\./out/|$work/odd-|" "$scenes/sphere-press.toml" >"$odd_scene"
+expect_exit 0 "a scene named with a byte that is not UTF-8" -- "$SCULPT" run "$odd_scene" --duration 0.5 --quiet \
+  --json "$work/report.json"
+expect_json "its summary is written, the byte as U+FFFD" "j['scene'].endswith('odd-\ufffd.toml') and j['ticks'] > 0"
 sed 's/^rate_hz = 80/ratee_hz = 80/' "$scenes/sphere-press.toml" > "$work/typo.toml"
 if grep -q ratee_hz "$work/typo.toml"; then
   expect_exit 2 "scene with a typo" -- "$SCULPT" run "$work/typo.toml" --duration 1
