@@ -774,6 +774,19 @@ Scene parse_scene(std::string_view text, const std::string& path_for_errors, con
 }
 
 Scene load_scene(const std::string& path) {
+  // Only a regular file is a scene: /dev/zero never ends (its read grew without bound), a FIFO
+  // waits for a writer, and a directory read as empty, reported as a missing key.
+  std::error_code status_error;
+  const std::filesystem::file_status status = std::filesystem::status(path, status_error);
+  if (!status_error && !std::filesystem::is_regular_file(status)) {
+    using Type = std::filesystem::file_type;
+    const Type type = status.type();
+    const char* kind = type == Type::directory                          ? "a directory"
+                       : type == Type::fifo                             ? "a FIFO"
+                       : type == Type::character || type == Type::block ? "a device"
+                                                                        : "a special file";
+    throw SceneError(path, 0, 0, "file", std::string("cannot read: ") + kind + ", not a regular file");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path, 0, 0, "file", std::string("cannot read: ") + std::strerror(errno));
   std::ostringstream text;
