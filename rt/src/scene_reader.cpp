@@ -174,7 +174,14 @@ std::optional<std::string> Section::string(std::string_view key) const {
   const toml::node* n = node(key);
   if (n == nullptr) return std::nullopt;
   if (!n->is_string()) fail(key, "expected a string, got " + std::string(type_name(*n)));
-  return n->as_string()->get();
+  const std::string& text = n->as_string()->get();
+  // Every scene string is a path, a name or a URL, which the system cuts at a NUL: "x.txt\u0000.ply"
+  // passed the .ply check and then wrote over x.txt.
+  if (text.find('\0') != std::string::npos) {
+    fail(key, "holds a NUL character (\\u0000) at position " + std::to_string(text.find('\0')) +
+                  ": a path or name would end there");
+  }
+  return text;
 }
 
 std::optional<deform::Vec3> Section::vec3(std::string_view key) const {

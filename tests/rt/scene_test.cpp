@@ -691,6 +691,12 @@ interface = 0
        "only used with output.log"},
       {"output overwrites the model", kMinimal + "[output]\nmodel = \"./m.ply\"\n", "output.model", 9,
        "would overwrite"},
+      // A NUL ends a path for the system: "p.txt\u0000.ply" passed the extension check and then
+      // wrote the model over p.txt; a model path cut there read another file.
+      {"NUL in an output path", kMinimal + "[output]\nmodel = \"p.txt\\u0000.ply\"\n", "output.model", 9,
+       "holds a NUL character (\\u0000) at position 5: a path or name would end there"},
+      {"NUL in the model path", "[model]\npath = \"m\\u0000.ply\"\n", "model.path", 2,
+       "holds a NUL character (\\u0000) at position 1"},
       {"zero glove timeout", glove_scene("timeout_ms = 0"), "glove.timeout_ms", 5,
        "out of range: 0 is not in (0, 3.6e+06] (milliseconds: at most an hour)"},
       // Times, timeouts and rates are bounded above: 1e13 ms added to a clock overflows int64
