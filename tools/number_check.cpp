@@ -2,8 +2,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <string>
+#include <system_error>
 
 #include "sculpt/base/number_text.hpp"
 
@@ -25,6 +28,24 @@ CLI::Validator finite_in(double lo, bool lo_open, double hi, bool hi_open, const
         return {};
       },
       "NUMBER in " + range);
+}
+
+CLI::Validator whole_in(long long lo, long long hi) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  return CLI::Validator(
+      [=](std::string& input) -> std::string {
+        long long value = 0;
+        const char* end = input.data() + input.size();
+        const auto [stop, error] = std::from_chars(input.data(), end, value);
+        if (input.empty() || stop != end || error == std::errc::invalid_argument) {
+          return "expected a whole number, got '" + input + "'";
+        }
+        if (error == std::errc::result_out_of_range || value < lo || value > hi) {
+          return "must be a whole number in " + range + ", got " + input;
+        }
+        return {};
+      },
+      "INTEGER in " + range);
 }
 
 CLI::Validator positive_up_to(double hi, const std::string& note) { return finite_in(0.0, true, hi, false, note); }

@@ -19,6 +19,7 @@
 #include "bad_normals_option.hpp"
 #include "commands.hpp"
 #include "json_report.hpp"
+#include "number_check.hpp"
 #include "output_paths.hpp"
 #include "sculpt/deform/model_identity.hpp"
 #include "sculpt/deform/model_io.hpp"
@@ -174,9 +175,10 @@ class ReplayCommand final : public Command {
         sub_->add_flag("--replace-log", replace_log_, "Let --record start afresh a log that holds an earlier session");
     replace_log->needs(record);
     auto* until =
-        sub_->add_option("--until-frame", until_frame_, "Apply the collision frames up to and including this frame id");
+        sub_->add_option("--until-frame", until_frame_, "Apply the collision frames up to and including this frame id")
+            ->check(whole_in(0, std::numeric_limits<std::int64_t>::max()));
     auto* drop = sub_->add_option("--drop-stroke", drop_stroke_, "Leave out this stroke (its number in --list)")
-                     ->check(CLI::Range(std::size_t{1}, std::numeric_limits<std::size_t>::max()));
+                     ->check(whole_in(1, std::numeric_limits<std::int64_t>::max()));
     auto* list =
         sub_->add_flag("--list", list_, "Print the log's strokes (one finger's touch to release) with their frames");
     auto* force = sub_->add_flag("--force", force_, "Apply the log to a model it was not recorded on");

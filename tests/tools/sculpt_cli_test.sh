@@ -708,6 +708,12 @@ expect_json "the stroke's events left out" "j['transfer']['events'] == j['collis
 cmp -s "$work/undo.ply" "$work/transfer.ply" && bad "dropping a stroke changed nothing" || ok "dropping a stroke changes the model"
 expect_exit 2 "--drop-stroke past the last stroke" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --drop-stroke 99
 one_line_error "--drop-stroke names the count" "strokes (see --list)"
+# Frame and stroke numbers are read as written: CLI11 took -1 for a stroke as 2^64 - 1 and
+# clamped a frame id past int64, and --until-frame -1 applied nothing with exit 0.
+for bad_number in "--until-frame -1" "--until-frame 99999999999999999999" "--until-frame ''" "--drop-stroke -1" "--drop-stroke 1e3"; do
+  eval "expect_exit 2 \"replay $bad_number refused\" -- \"\$SCULPT\" replay \"\$work/sphere-squeeze.lcmlog\" --model \"\$sphere\" $bad_number"
+  one_line_error "replay $bad_number named" "${bad_number%% *}: \(must be\|expected\) a whole number"
+done
 unused "replay --list --model" "--model excludes --list" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --list --model "$sphere"
 unused "replay --list --out" "--out excludes --list" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --list --out "$work/u.ply"
 unused "replay --scene with --mode transfer" "--scene is not used by --mode transfer" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode transfer
