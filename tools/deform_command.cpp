@@ -181,7 +181,9 @@ class DeformCommand final : public Command {
       if (!(border_weight_ >= 0.0)) throw std::invalid_argument("--border-weight must be >= 0");
       // --out may replace the model (an edit in place, written atomically); the JSON may not.
       refuse_output_naming_input({"--json", json_path_}, std::vector<NamedPath>{{"the model (--model)", model_path_}});
-      refuse_shared_outputs(std::vector<NamedPath>{{"--out", out_path_}, {"--json", json_path_}});
+      const std::vector<NamedPath> outputs = {{"--out", out_path_}, {"--json", json_path_}};
+      refuse_shared_outputs(outputs);
+      for (const NamedPath& output : outputs) refuse_unwritable_output(output);
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt deform: error: " << e.what() << "\n";
       return kExitUsage;

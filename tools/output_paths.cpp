@@ -7,6 +7,8 @@
 #include <string>
 #include <system_error>
 
+#include <unistd.h>
+
 #include "sculpt/deform/model_io.hpp"
 
 namespace sculpt::tools {
@@ -28,6 +30,27 @@ bool same_file(const std::string& a, const std::string& b) {
 
 bool names_a_file(const std::string& path) { return !path.empty() && path != "-"; }
 
+// The folder `path` would be made in: its nearest ancestor that exists ("." for a bare name).
+// The folders below it that are missing are made when the output is written.
+fs::path nearest_existing_folder(const fs::path& path) {
+  std::error_code error;
+  fs::path folder = path.parent_path();
+  while (!folder.empty() && !fs::exists(folder, error)) folder = folder.parent_path();
+  return folder.empty() ? fs::path(".") : folder;
+}
+
+void refuse_unusable_folder(const NamedPath& output, const fs::path& folder) {
+  std::error_code error;
+  if (!fs::is_directory(folder, error)) {
+    throw std::invalid_argument(output.what + " " + output.path + ": " + folder.string() +
+                                " is not a directory, so nothing can be written under it");
+  }
+  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+    throw std::invalid_argument(output.what + " " + output.path + ": the folder " + folder.string() +
+                                " is not writable");
+  }
+}
+
 }  // namespace
 
 void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPath> inputs) {
@@ -37,6 +60,22 @@ void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPa
     throw std::invalid_argument(output.what + " " + output.path + " is " + input.what + " (" + input.path +
                                 "): an output may not overwrite an input");
   }
+}
+
+void refuse_unwritable_output(const NamedPath& output) {
+  if (!names_a_file(output.path)) return;
+  std::error_code error;
+  if (fs::is_directory(output.path, error)) {
+    throw std::invalid_argument(output.what + " " + output.path + " is a directory, not a file to write");
+  }
+  refuse_unusable_folder(output, nearest_existing_folder(output.path));
+}
+
+void refuse_unwritable_folder(const NamedPath& output) {
+  if (output.path.empty()) return;
+  std::error_code error;
+  const bool exists = fs::exists(output.path, error);
+  refuse_unusable_folder(output, exists ? fs::path(output.path) : nearest_existing_folder(output.path));
 }
 
 void refuse_shared_outputs(std::span<const NamedPath> outputs) {

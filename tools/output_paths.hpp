@@ -19,6 +19,15 @@ struct NamedPath {
 /// weakly canonical path. Empty paths and "-" (stdout) name no file and are passed over.
 void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPath> inputs);
 
+/// Throws std::invalid_argument when `output` could not be written once the work is done: it is
+/// a directory, or the nearest folder on its way that exists is not a directory or not writable
+/// (the folders still missing are made when it is written). Empty paths and "-" pass.
+void refuse_unwritable_output(const NamedPath& output);
+
+/// The same for an output folder (sculpt report --out): an existing path must be a writable
+/// directory, a missing one must have one as its nearest existing ancestor.
+void refuse_unwritable_folder(const NamedPath& output);
+
 /// Throws std::invalid_argument ("--json a.ply is also --out (a.ply): ...") when two of
 /// `outputs` name the same file, judged as refuse_output_naming_input judges: a session's JSON
 /// written over its model or its log would lose them after all the work.

@@ -248,10 +248,9 @@ class ReplayCommand final : public Command {
                                     }}) {
       refuse_output_naming_input(output, inputs);
     }
-    refuse_shared_outputs(std::vector<NamedPath>{{"--out", out_path_},
-                                                 {"--json", json_path_},
-                                                 { "--record",
-                                                   record_path_ }});
+    const std::vector<NamedPath> outputs = {{"--out", out_path_}, {"--json", json_path_}, { "--record", record_path_ }};
+    refuse_shared_outputs(outputs);
+    for (const NamedPath& output : outputs) refuse_unwritable_output(output);
     if (!record_path_.empty() && !replace_log_) refuse_overwriting_log({"--record", record_path_}, "--replace-log");
   }
 

@@ -631,26 +631,26 @@ one_line_error "--json naming the log refused" "is the log"
 # Two outputs naming one file: one would overwrite the other after all the work (a JSON over
 # the sculpted model, or over the session's log). Each command refuses before it starts.
 cp "$work/sphere-squeeze.lcmlog" "$work/kept.lcmlog"
-shared_output() {  # NAME MESSAGE COMMAND...: exit 2, one line naming MESSAGE
+refused_early() {  # NAME MESSAGE COMMAND...: exit 2 before any work, one line naming MESSAGE
   local name="$1" message="$2"
   shift 2
   expect_exit 2 "$name" -- "$@"
-  one_line_error "$name: refused naming both" "$message"
+  one_line_error "$name: one line naming it" "$message"
 }
-shared_output "run --json over --out" "--json $work/a.ply is also --out ($work/a.ply): two outputs may not share a file" \
+refused_early "run --json over --out" "--json $work/a.ply is also --out ($work/a.ply): two outputs may not share a file" \
   "$SCULPT" run "$work/squeeze.toml" --duration 1 --quiet --replace-log --out "$work/a.ply" --json "$work/a.ply"
-shared_output "run --json over the scene's log" "output.log $work/sphere-squeeze.lcmlog is also --json ($work/./sphere-squeeze.lcmlog): two outputs may not share a file, one would overwrite the other" \
+refused_early "run --json over the scene's log" "output.log $work/sphere-squeeze.lcmlog is also --json ($work/./sphere-squeeze.lcmlog): two outputs may not share a file, one would overwrite the other" \
   "$SCULPT" run "$work/squeeze.toml" --duration 1 --quiet --replace-log --json "$work/./sphere-squeeze.lcmlog"
-shared_output "replay --json over --out" "--json $work/r.ply is also --out" \
+refused_early "replay --json over --out" "--json $work/r.ply is also --out" \
   "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/r.ply" --json "$work/r.ply"
-shared_output "deform --json over --out" "--json $work/d.ply is also --out" \
+refused_early "deform --json over --out" "--json $work/d.ply is also --out" \
   "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/d.ply" --json "$work/d.ply"
-shared_output "deform --json over the model" "--json $work/model-copy.ply is the model (--model)" \
+refused_early "deform --json over the model" "--json $work/model-copy.ply is the model (--model)" \
   "$SCULPT" deform --model "$work/model-copy.ply" --contact 0,0,1.1:0,0,0.95 --json "$work/model-copy.ply"
-shared_output "report --json over the session" "--json $work/sphere-squeeze.lcmlog is the session" \
+refused_early "report --json over the session" "--json $work/sphere-squeeze.lcmlog is the session" \
   "$SCULPT" report "$work/sphere-squeeze.lcmlog" --out "$work/shared-report" --json "$work/sphere-squeeze.lcmlog"
 cp "$work/kept.lcmlog" "$work/log.png"
-shared_output "render --out over --log" "--out $work/log.png is the log (--log)" \
+refused_early "render --out over --log" "--out $work/log.png is the log (--log)" \
   "$SCULPT" render "$sphere" --log "$work/log.png" --out "$work/log.png"
 if cmp -s "$work/sphere-squeeze.lcmlog" "$work/kept.lcmlog" && cmp -s "$work/log.png" "$work/kept.lcmlog" &&
   cmp -s "$work/model-copy.ply" "$sphere" && [[ ! -e $work/a.ply && ! -e $work/r.ply && ! -e $work/d.ply ]]; then
@@ -658,6 +658,22 @@ if cmp -s "$work/sphere-squeeze.lcmlog" "$work/kept.lcmlog" && cmp -s "$work/log
 else
   bad "a refused command changed a log or a model, or wrote an output"
 fi
+# An output that cannot be written is refused before the work: a directory named as --out, or a
+# path under a regular file, used to fail only once the session was over, its model lost.
+mkdir -p "$work/folder.ply"
+: >"$work/plain-file"
+start_s=$(date +%s)
+refused_early "run --out naming a directory" "--out $work/folder.ply is a directory, not a file to write" \
+  "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet --replace-log --out "$work/folder.ply"
+(( $(date +%s) - start_s < 3 )) && ok "run refused the directory before the session" || bad "run ran the session before refusing --out"
+refused_early "run --json under a file" "--json $work/plain-file/j.json: $work/plain-file is not a directory" \
+  "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet --replace-log --json "$work/plain-file/j.json"
+refused_early "replay --out naming a directory" "--out $work/folder.ply is a directory" \
+  "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/folder.ply"
+refused_early "deform --json under a file" "--json $work/plain-file/x/d.json: $work/plain-file is not a directory" \
+  "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --json "$work/plain-file/x/d.json"
+refused_early "report --out naming a file" "--out $work/plain-file: $work/plain-file is not a directory" \
+  "$SCULPT" report --quick --out "$work/plain-file"
 ln -s "$sphere" "$work/base-link.ply"
 expect_exit 2 "--out naming the scene's base model through a link" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/sphere500.ply" --scene "$work/squeeze.toml" --mode both --out "$work/base-link.ply"
 one_line_error "--out naming the scene's base model refused" "the scene's base model"
