@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -183,7 +184,12 @@ class RenderCommand final : public Command {
       if (view_option_->count()) {
         request_.look = parse_vec3(view_text_, error);
         if (!request_.look) throw std::invalid_argument("--view: " + error);
-        if (deform::squared_norm(*request_.look) == 0.0) throw std::invalid_argument("--view: the direction is zero");
+        // Only the direction counts: scaled by its largest component, so that 1e155 does not
+        // overflow the length (the picture came out empty) nor 1e-170 underflow it to zero.
+        deform::Vec3& look = *request_.look;
+        const double largest = std::max({std::abs(look.x), std::abs(look.y), std::abs(look.z)});
+        if (!(largest > 0.0)) throw std::invalid_argument("--view: the direction is zero");
+        look = {look.x / largest, look.y / largest, look.z / largest};
       }
       request_.views = views_;
       request_.up = up_ == "x" ? render::UpAxis::kX : up_ == "z" ? render::UpAxis::kZ : render::UpAxis::kY;

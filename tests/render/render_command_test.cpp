@@ -6,7 +6,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
+#include <vector>
 
 #include "hil/child_process.hpp"
 #include "support/bundled_scene.hpp"
@@ -73,6 +75,24 @@ TEST_F(RenderCommand, WritesAPictureOfTheModel) {
   const std::uint8_t* centre = image.at(48, 40);
   EXPECT_NE(std::vector<int>(corner, corner + 3), std::vector<int>(centre, centre + 3))
       << "the sphere is in the middle";
+}
+
+// --view is a direction: its length does not count. 1e155 overflowed the length (an empty
+// picture) and 1e-170 underflowed it ("the direction is zero"); both now draw what 1,1,1 does.
+TEST_F(RenderCommand, AViewDirectionDrawsTheSamePictureAtAnyLength) {
+  std::vector<std::string> pictures;
+  for (const std::string look : {"1,1,1", "1e155,1e155,1e155", "1e-170,1e-170,1e-170", "4.9e-324,4.9e-324,4.9e-324"}) {
+    const std::string out = path("view" + std::to_string(pictures.size()) + ".png");
+    const CommandResult r = run({sphere_, "--out", out, "--size", "64x48", "--view", look});
+    ASSERT_EQ(r.status, 0) << look << ": " << r.output;
+    std::ifstream in(out, std::ios::binary);
+    pictures.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const render::Image image = read_png(path("view0.png"));
+  const std::uint8_t* corner = image.at(0, 0);
+  const std::uint8_t* centre = image.at(32, 24);
+  EXPECT_NE(std::vector<int>(corner, corner + 3), std::vector<int>(centre, centre + 3)) << "the sphere is drawn";
+  for (std::size_t i = 1; i < pictures.size(); ++i) EXPECT_EQ(pictures[i], pictures[0]) << "view " << i;
 }
 
 TEST_F(RenderCommand, ComparesAndMakesRowsOfViews) {
