@@ -102,8 +102,10 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale)
     std::fprintf(stderr, "skipped  %s\n", what.c_str());
     ++session.skipped;
   };
+  std::size_t sculpt_events = 0;
   const auto take = [&](const logging::LogEvent& event) {
     std::string error;
+    if (event.channel.rfind("SCULPT_", 0) == 0) ++sculpt_events;
     if (event.channel == logging::kFingertipChannel) {
       sculpt_lcm::fingertip_state_t tip;
       if (!logging::decode(event, tip, error)) {
@@ -136,7 +138,13 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale)
       ++session.collisions;
     }
   };
-  logging::for_each_event(path, take, skip);
+  const logging::EventLogTotals totals = logging::for_each_event(path, take, skip);
+  // An empty file, random bytes or another program's log drew the bare model with exit 0.
+  if (totals.file_size == 0) throw std::runtime_error(path + ": empty file, not an event log");
+  if (sculpt_events == 0) {
+    throw std::runtime_error(path + ": not a glovesculpt log: no event on a SCULPT_ channel in its " +
+                             std::to_string(totals.file_size) + " bytes");
+  }
   for (auto& [finger, line] : paths) session.overlay.paths.push_back(std::move(line));
   return session;
 }

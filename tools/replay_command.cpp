@@ -59,7 +59,9 @@ struct SessionLog {
   std::vector<std::uint64_t> collision_offsets;  // byte offset of each collision event
   std::vector<hal::GloveSample> samples;
   std::size_t events = 0;
-  std::vector<Damage> damage;  // in file order
+  std::size_t sculpt_events = 0;  // on glovesculpt's channels (SCULPT_...)
+  std::string other_channel;      // the first channel that is not one of them
+  std::vector<Damage> damage;     // in file order
   std::uint64_t skipped_bytes = 0;
   std::uint64_t size = 0;
 
@@ -134,7 +136,13 @@ SessionLog read_session(const std::string& path) {
   const logging::EventLogTotals totals = logging::for_each_event(
       path,
       [&](const logging::LogEvent& event) {
-        if (take(event)) ++log.events;
+        if (!take(event)) return;
+        ++log.events;
+        if (event.channel.rfind("SCULPT_", 0) == 0) {
+          ++log.sculpt_events;
+        } else if (log.other_channel.empty()) {
+          log.other_channel = event.channel;
+        }
       },
       damaged);
   log.size = totals.file_size;
@@ -260,6 +268,12 @@ class ReplayCommand final : public Command {
     if (log.events == 0) {
       throw std::runtime_error(path + ": not an event log: no valid LCM log event in its " + std::to_string(log.size) +
                                " bytes (" + log.damage.front().what.substr(path.size() + 2) + ")");
+    }
+    // Another program's LCM log (lcm-logger on any bus) reads cleanly and holds nothing to apply:
+    // replaying it wrote the model unchanged, with exit 0 and a warning about missing headers.
+    if (log.sculpt_events == 0) {
+      throw std::runtime_error(path + ": not a glovesculpt log: none of its " + std::to_string(log.events) +
+                               " LCM events is on a SCULPT_ channel (the first is on " + log.other_channel + ")");
     }
     return log;
   }

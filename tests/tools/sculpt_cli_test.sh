@@ -622,6 +622,24 @@ expect_exit 1 "random bytes as a log" -- "$SCULPT" replay "$work/random.lcmlog" 
 one_line_error "random bytes are not a log" "random.lcmlog: not an event log"
 expect_exit 1 "a PLY as a log" -- "$SCULPT" replay "$sphere" --model "$sphere"
 one_line_error "a PLY is not a log" "sphere_3203.ply: not an event log"
+# Another program's LCM log reads cleanly and holds nothing of ours: replay used to write the
+# model unchanged with exit 0, blaming a missing session header.
+python3 -c "
+import struct, sys
+with open(sys.argv[1], 'wb') as f:
+    for n in range(3):
+        channel, data = b'EXAMPLE', bytes(16)
+        f.write(struct.pack('>IqqII', 0xEDA1DA01, n, 1700000000000000 + n, len(channel), len(data)) + channel + data)
+" "$work/foreign.lcmlog"
+expect_exit 1 "another program's LCM log" -- "$SCULPT" replay "$work/foreign.lcmlog" --model "$sphere" --out "$work/foreign.ply"
+one_line_error "another program's log refused naming its channel" "foreign.lcmlog: not a glovesculpt log: none of its 3 LCM events is on a SCULPT_ channel (the first is on EXAMPLE)"
+[[ ! -e $work/foreign.ply ]] && ok "nothing written for another program's log" || bad "a model was written for another program's log"
+expect_exit 1 "render --log of another program's log" -- "$SCULPT" render "$sphere" --log "$work/foreign.lcmlog" --out "$work/foreign.png"
+one_line_error "render names what the log is not" "foreign.lcmlog: not a glovesculpt log: no event on a SCULPT_ channel"
+: >"$work/empty-for-render.lcmlog"
+expect_exit 1 "render --log of an empty file" -- "$SCULPT" render "$sphere" --log "$work/empty-for-render.lcmlog" --out "$work/foreign.png"
+one_line_error "render names the empty log" "empty-for-render.lcmlog: empty file, not an event log"
+[[ ! -e $work/foreign.png ]] && ok "no picture for a log that is not one" || bad "render drew a picture for a log that is not one"
 cp "$sphere" "$work/model-copy.ply"
 expect_exit 2 "--out naming --model" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/model-copy.ply" --out "$work/./model-copy.ply"
 one_line_error "--out naming --model refused" "is the model"
