@@ -690,7 +690,9 @@ void read_loop(const Section& root, Scene& scene) {
             .value_or(loop.realtime);
   }
   loop.lock_memory = s.boolean("lock_memory").value_or(loop.lock_memory);
-  if (const auto cpu = s.integer_in("cpu", -1, 4095)) loop.cpu = static_cast<int>(*cpu);
+  // glibc's CPU_SETSIZE is 1024: the pinning takes CPUs 0 to 1023, so a larger one is refused here,
+  // by its key, rather than by the loop once the model is loaded.
+  if (const auto cpu = s.integer_in("cpu", -1, 1023)) loop.cpu = static_cast<int>(*cpu);
 }
 
 void read_lcm(const Section& root, Scene& scene) {
