@@ -695,7 +695,8 @@ interface = 0
       // wrote the model over p.txt; a model path cut there read another file.
       {"NUL in an output path", kMinimal + "[output]\nmodel = \"p.txt\\u0000.ply\"\n", "output.model", 9,
        "holds a NUL character (\\u0000) at position 5: a path or name would end there"},
-      {"a CPU past the pinning's set", kMinimal + "[loop]\ncpu = 4095\n", "loop.cpu", 9, "out of range: 4095 is not in [-1, 1023]"},
+      {"a CPU past the pinning's set", kMinimal + "[loop]\ncpu = 4095\n", "loop.cpu", 9,
+       "out of range: 4095 is not in [-1, 1023]"},
       {"NUL in the model path", "[model]\npath = \"m\\u0000.ply\"\n", "model.path", 2,
        "holds a NUL character (\\u0000) at position 1"},
       {"zero glove timeout", glove_scene("timeout_ms = 0"), "glove.timeout_ms", 5,
