@@ -9,6 +9,7 @@
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
+#include <termios.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -63,7 +64,13 @@ struct Pty {
   int slave = -1;  // kept open so the slave side stays valid between the children's opens
   bool open_pair() {
     char name[128];
-    if (openpty(&master, &slave, name, nullptr, nullptr) != 0) return false;
+    // Raw from the start, as a real serial line is: a pseudo-terminal is born in cooked mode
+    // until its reader sets raw, and bytes written before the station opens it (it may still be
+    // loading its model, slowly under a sanitizer) go through the line discipline, whose
+    // kill and erase characters delete random garbage and the frames before it.
+    termios raw{};
+    cfmakeraw(&raw);
+    if (openpty(&master, &slave, name, &raw, nullptr) != 0) return false;
     slave_path = name;
     fcntl(master, F_SETFL, fcntl(master, F_GETFL) | O_NONBLOCK);
     // Not inherited by the children: otherwise closing the master here would not unplug the line.
