@@ -94,6 +94,14 @@ void refuse_shared_outputs(std::span<const NamedPath> outputs) {
   }
 }
 
+void check_outputs(std::span<const NamedPath> outputs, std::span<const NamedPath> inputs) {
+  for (const NamedPath& output : outputs) {
+    refuse_output_naming_input(output, inputs);
+    refuse_unwritable_output(output);
+  }
+  refuse_shared_outputs(outputs);
+}
+
 void refuse_overwriting_log(const NamedPath& log, const std::string& replace_flag) {
   if (!names_a_file(log.path)) return;
   std::error_code error;

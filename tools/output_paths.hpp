@@ -33,6 +33,10 @@ void refuse_unwritable_folder(const NamedPath& output);
 /// written over its model or its log would lose them after all the work.
 void refuse_shared_outputs(std::span<const NamedPath> outputs);
 
+/// The three checks above for a command's outputs, before any work: none names one of `inputs`,
+/// each could be written, and no two share a file. The first problem found is thrown.
+void check_outputs(std::span<const NamedPath> outputs, std::span<const NamedPath> inputs);
+
 /// Throws std::invalid_argument naming `option` when `path` is not .ply, .off or .xyz (what
 /// deform::write_model writes).
 void refuse_unwritable_model_format(const std::string& option, const std::string& path);

@@ -250,15 +250,8 @@ class ReplayCommand final : public Command {
       inputs.push_back({"the scene (--scene)", scene_path_});
       inputs.push_back({"the scene's base model", rt::load_scene(scene_path_).model.path});
     }
-    for (const NamedPath& output : {NamedPath{"--out", out_path_}, NamedPath{"--json", json_path_}, NamedPath {
-                                      "--record",
-                                      record_path_
-                                    }}) {
-      refuse_output_naming_input(output, inputs);
-    }
     const std::vector<NamedPath> outputs = {{"--out", out_path_}, {"--json", json_path_}, { "--record", record_path_ }};
-    refuse_shared_outputs(outputs);
-    for (const NamedPath& output : outputs) refuse_unwritable_output(output);
+    check_outputs(outputs, inputs);
     if (!record_path_.empty() && !replace_log_) refuse_overwriting_log({"--record", record_path_}, "--replace-log");
   }
 

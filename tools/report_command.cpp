@@ -64,9 +64,8 @@ class ReportCommand final : public Command {
     if (session_path_.empty() && !quick_)
       throw std::invalid_argument("give a scene, or --quick for the bundled sphere");
     if (session_path_.empty()) session_path_ = SCULPT_QUICK_SCENE;
-    refuse_output_naming_input({"--json", json_path_}, std::vector<NamedPath>{{"the session", session_path_},
-                                                                              {"the model (--model)", model_path_}});
-    refuse_unwritable_output({"--json", json_path_});
+    check_outputs(std::vector<NamedPath>{{"--json", json_path_}},
+                  std::vector<NamedPath>{{"the session", session_path_}, {"the model (--model)", model_path_}});
     refuse_unwritable_folder({"--out", out_dir_});
     if (json_path_ == "-") reserve_stdout_for_json();
     const auto start = std::chrono::steady_clock::now();

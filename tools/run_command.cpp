@@ -101,11 +101,7 @@ class RunCommand final : public Command {
       if (!out.empty()) refuse_unwritable_model_format("--out", out);
       const std::vector<NamedPath> inputs = {{"the scene", scene_path_}, {"the scene's base model", scene.model.path}};
       const std::vector<NamedPath> outputs = {{"--out", out}, {"--json", json}, {"output.log", log}};
-      for (const NamedPath& output : outputs) {
-        refuse_output_naming_input(output, inputs);
-        refuse_unwritable_output(output);  // else found only once the session is over, its model lost
-      }
-      refuse_shared_outputs(outputs);
+      check_outputs(outputs, inputs);  // else found only once the session is over, its model lost
       if (!replace_log_) refuse_overwriting_log({scene_path_ + ": output.log", log}, "--replace-log");
       if (json == "-") reserve_stdout_for_json();
     } catch (const std::invalid_argument& e) {
