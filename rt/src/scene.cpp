@@ -2,15 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "scene_reader.hpp"
+#include "sculpt/base/regular_file.hpp"
 #include "sculpt/base/time_limits.hpp"
 
 namespace sculpt::rt {
@@ -778,26 +775,16 @@ Scene parse_scene(std::string_view text, const std::string& path_for_errors, con
 Scene load_scene(const std::string& path) {
   // Only a regular file is a scene: /dev/zero never ends (its read grew without bound), a FIFO
   // waits for a writer, and a directory read as empty, reported as a missing key.
-  std::error_code status_error;
-  const std::filesystem::file_status status = std::filesystem::status(path, status_error);
-  if (!status_error && !std::filesystem::is_regular_file(status)) {
-    using Type = std::filesystem::file_type;
-    const Type type = status.type();
-    const char* kind = type == Type::directory                          ? "a directory"
-                       : type == Type::fifo                             ? "a FIFO"
-                       : type == Type::character || type == Type::block ? "a device"
-                                                                        : "a special file";
-    throw SceneError(path, 0, 0, "file", std::string("cannot read: ") + kind + ", not a regular file");
+  std::string text;
+  try {
+    text = base::read_regular_file(path);
+  } catch (const base::FileReadError& e) {
+    throw SceneError(path, 0, 0, "file", e.what());
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path, 0, 0, "file", std::string("cannot read: ") + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw SceneError(path, 0, 0, "file", "read failed");
   std::error_code error;
   std::filesystem::path dir = std::filesystem::absolute(std::filesystem::path(path), error).parent_path();
   if (error) dir = std::filesystem::path(path).parent_path();
-  return parse_scene(text.str(), path, dir.lexically_normal().string());
+  return parse_scene(text, path, dir.lexically_normal().string());
 }
 
 }  // namespace sculpt::rt

@@ -216,7 +216,7 @@ TEST(Scene, AnUnreadableFileIsNamed) {
     FAIL() << "no error";
   } catch (const SceneError& e) {
     EXPECT_EQ(e.key(), "file");
-    EXPECT_EQ(std::string(e.what()).rfind("/nonexistent/scene.toml: file: cannot read", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.toml: file: cannot open (No such file or directory)");
   }
 }
 
@@ -695,10 +695,10 @@ interface = 0
       // wrote the model over p.txt; a model path cut there read another file.
       {"NUL in an output path", kMinimal + "[output]\nmodel = \"p.txt\\u0000.ply\"\n", "output.model", 9,
        "holds a NUL character (\\u0000) at position 5: a path or name would end there"},
-      {"a CPU past the pinning's set", kMinimal + "[loop]\ncpu = 4095\n", "loop.cpu", 9,
-       "out of range: 4095 is not in [-1, 1023]"},
       {"NUL in the model path", "[model]\npath = \"m\\u0000.ply\"\n", "model.path", 2,
        "holds a NUL character (\\u0000) at position 1"},
+      {"a CPU past the pinning's set", kMinimal + "[loop]\ncpu = 4095\n", "loop.cpu", 9,
+       "out of range: 4095 is not in [-1, 1023]"},
       {"zero glove timeout", glove_scene("timeout_ms = 0"), "glove.timeout_ms", 5,
        "out of range: 0 is not in (0, 3.6e+06] (milliseconds: at most an hour)"},
       // Times, timeouts and rates are bounded above: 1e13 ms added to a clock overflows int64

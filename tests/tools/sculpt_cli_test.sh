@@ -409,7 +409,7 @@ one_line_error "missing scene named" "none.toml"
 # Only a regular file is a scene: /dev/zero was read without end (its memory grew without
 # bound) and a directory was reported as a scene with no model.path.
 expect_exit 2 "a device as the scene" -- timeout 20 "$SCULPT" run /dev/zero --duration 0.5 --quiet
-one_line_error "a device refused as a scene" "/dev/zero: file: cannot read: a device, not a regular file"
+one_line_error "a device refused as a scene" "/dev/zero: file: cannot read: a character device, not a regular file"
 mkdir -p "$work/folder.toml"
 expect_exit 2 "a directory as the scene" -- "$SCULPT" run "$work/folder.toml" --duration 0.5 --quiet
 one_line_error "a directory refused as a scene" "folder.toml: file: cannot read: a directory, not a regular file"
