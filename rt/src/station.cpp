@@ -159,7 +159,9 @@ void Station::update_fingers(std::int64_t) noexcept {
     f.tracked = true;
     f.raw = {tips[id.finger][0], tips[id.finger][1], tips[id.finger][2]};
     // An inf or NaN is dropped before the filter, which would hold its last output for it (the
-    // origin, before any sample) and hand that on as the finger's new position.
+    // origin, before any sample) and hand that on as the finger's new position. Intake already
+    // drops samples holding one; this catches finite joints whose tip overflows in the hand
+    // model's arithmetic (3e38 + 3e38), and keeps the filter safe whatever feeds it.
     if (!deform::is_finite(f.raw)) {
       f.filtered = f.registered = f.raw;
       ++totals_.out_of_range;

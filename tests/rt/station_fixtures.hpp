@@ -30,11 +30,16 @@ class FakeGlove final : public hal::GloveSource {
   void feed(const deform::Vec3& index_tip, std::int64_t now_ns, std::uint64_t device_us, std::uint8_t hand = 0) {
     hal::GloveSample s;
     s.hand = hand;
-    s.sequence = sequence_++;
     s.device_time_us = device_us;
     s.receive_time_ns = now_ns;
     s.joints[hal::kTipJoint[1]] = {static_cast<float>(index_tip.x), static_cast<float>(index_tip.y),
                                    static_cast<float>(index_tip.z)};
+    feed_sample(s);
+  }
+
+  /// A sample as a backend would hand it over, stamped with the next sequence number.
+  void feed_sample(hal::GloveSample s) {
+    s.sequence = sequence_++;
     pending_[count_++] = s;
   }
 

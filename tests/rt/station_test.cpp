@@ -416,10 +416,11 @@ TEST(Station, CountsEachHandsTicksInContactAndTheCommandsItsSinkTookInThem) {
 }
 
 // A glove frame with a valid CRC may carry inf or NaN (a sim glove with a jitter of 1e308 made
-// them). Each such fingertip is dropped and counted, with the filter on as at the station: the
+// them). Each such sample is dropped and counted, with the filter on as at the station: the
 // filter holds its last output for a non-finite value, and that output was the origin, inside
 // the sphere, which once made a collision from nothing. Between them a good stroke still presses.
-TEST(Station, ANonFiniteFingertipIsDroppedAndCountedNeverFilteredIntoAPosition) {
+// Finite joint angles can still sum to inf in the hand model; that fingertip is dropped too.
+TEST(Station, ANonFiniteGloveSampleOrFingertipIsDroppedAndCountedNeverFilteredIntoAPosition) {
   deform::PointModel sphere = deform::make_sphere();
   const deform::PointModel before = sphere;
   auto glove = std::make_unique<FakeGlove>();
@@ -458,6 +459,21 @@ TEST(Station, ANonFiniteFingertipIsDroppedAndCountedNeverFilteredIntoAPosition) 
   sample({0.0, inf, 0.9});  // mid-press: held, not taken for the last good position
   sample({0.0, 0.0, nan});
   EXPECT_EQ(station.totals().out_of_range, 5u);
+  EXPECT_EQ(collisions, pressing);
+  EXPECT_EQ(sphere.z, pressed.z);
+  // Angles of 3e38 are finite and pass intake; their sum along the finger is inf, its cosine NaN.
+  hal::GloveSample bent;
+  bent.kind = hal::SampleKind::kAngles;
+  for (auto& finger : bent.angles) finger = {3e38f, 3e38f, 3e38f, 3e38f};
+  ASSERT_TRUE(hal::all_finite(bent));
+  for (int t = 0; t < 5; ++t) {
+    bent.device_time_us = static_cast<std::uint64_t>((now + kMs) / 1000);
+    bent.receive_time_ns = now + kMs;
+    g->feed_sample(bent);
+    now += kMs;
+    collisions += station.tick(now, kMs).collisions;
+  }
+  EXPECT_EQ(station.totals().out_of_range, 10u);
   EXPECT_EQ(collisions, pressing);
   EXPECT_EQ(sphere.z, pressed.z);
   for (std::size_t i = 0; i < sphere.size(); ++i) ASSERT_TRUE(deform::is_finite(sphere.position(i))) << i;
