@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -364,6 +365,36 @@ class ReplayCommand final : public Command {
     return kept;
   }
 
+  // A logged frame the transfer cannot apply (its material out of range, or forces that would
+  // put inf or NaN in the model: values no session logs, so damage the reader could not see) is
+  // damage at its first event, as the reader's own: replay stops at the last frame before it,
+  // or with --skip-damage passes over it. Returns whether to go on.
+  bool pass_over_rejected_frame(const rt::FrameRejected& e, const SessionLog& log, nlohmann::json& json) const {
+    const auto first = std::find_if(log.collisions.begin(), log.collisions.end(),
+                                    [&](const logging::CollisionRecord& r) { return r.frame_id == e.frame_id(); });
+    const std::uint64_t at = first == log.collisions.end()
+                                 ? 0
+                                 : log.collision_offsets[static_cast<std::size_t>(first - log.collisions.begin())];
+    const std::string what = log_path_ + ": byte offset " + std::to_string(at) + ": frame " +
+                             std::to_string(e.frame_id()) + " cannot be applied: " + e.why();
+    nlohmann::json& recovery = json["recovery"];
+    recovery["damage"].push_back({{"offset", at}, { "what", what }});
+    json["skipped"].push_back(what);
+    if (skip_damage_) {
+      recovery["past_damage"] = true;
+      std::fprintf(stderr,
+                   "damage   %s\n         passed over (--skip-damage): the result is a model no session produced\n",
+                   what.c_str());
+      return true;
+    }
+    recovery["stopped_at_damage"] = {{"offset", at}, { "what", what }};
+    std::fprintf(stderr,
+                 "damage   %s\n         replay stops at the last complete frame before it (--skip-damage goes on "
+                 "past it)\n",
+                 what.c_str());
+    return false;
+  }
+
   // The model check of the session header: the recording model, or a reduced-set session's
   // full model; anything else only with --force.
   void check_model(const SessionLog& log, const deform::PointModel& model, nlohmann::json& json) const {
@@ -461,12 +492,16 @@ class ReplayCommand final : public Command {
     std::optional<deform::PointModel> transferred, rerun;
     if (mode_ != "rerun") {
       transferred = base;
-      const rt::TransferStats stats =
-          rt::transfer(*transferred, events, [](std::size_t d, std::size_t t) { progress_bar("transfer", d, t); });
-      json["transfer"] = {{"frames", stats.frames},
-                          {"events", stats.events},
-                          { "last_frame",
-                            events.empty() ? nlohmann::json(nullptr) : nlohmann::json(events.back().frame_id) }};
+      const rt::TransferStats stats = rt::transfer(
+          *transferred, events, [](std::size_t d, std::size_t t) { progress_bar("transfer", d, t); }, {},
+          [&](const rt::FrameRejected& e) { return pass_over_rejected_frame(e, log, json); });
+      if (stats.rejected > 0 && !stats.stopped) json["produced_by_a_session"] = false;
+      const nlohmann::json last = stats.last_frame ? nlohmann::json(*stats.last_frame) : nlohmann::json(nullptr);
+      if (stats.stopped) json["recovery"]["last_frame"] = last;
+      json["transfer"] = {{"frames", stats.frames}, {"events", stats.events}, {"rejected_frames", stats.rejected}, {
+                            "last_frame",
+                            last
+                          }};
       std::printf("transfer %zu frames, %zu collision events onto %zu points\n", stats.frames, stats.events,
                   base.size());
     }

@@ -21,9 +21,7 @@ deform::Vec3 to_vec(const logging::Vec3d& v) { return {v[0], v[1], v[2]}; }
 
 std::string frame_name(std::int64_t id) { return "frame " + std::to_string(id); }
 
-[[noreturn]] void reject(std::int64_t id, const std::string& why) {
-  throw std::invalid_argument("transfer: " + frame_name(id) + ": " + why);
-}
+[[noreturn]] void reject(std::int64_t id, const std::string& why) { throw FrameRejected(id, why); }
 
 deform::Kernel kernel_of(const CollisionRecord& r) {
   deform::Kernel k;
@@ -38,6 +36,9 @@ deform::Kernel kernel_of(const CollisionRecord& r) {
 bool finite(const logging::Vec3d& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 }  // namespace
+
+FrameRejected::FrameRejected(std::int64_t frame_id, const std::string& why)
+    : std::invalid_argument("transfer: " + frame_name(frame_id) + ": " + why), frame_id_(frame_id), why_(why) {}
 
 FrameTransfer::FrameTransfer(deform::PointModel& target, const TransferOptions& options)
     : model_(target), options_(options) {
@@ -146,7 +147,8 @@ void FrameTransfer::apply(std::span<const CollisionRecord> frame) {
 }
 
 TransferStats transfer(deform::PointModel& target, std::span<const CollisionRecord> events,
-                       const std::function<void(std::size_t, std::size_t)>& progress, const TransferOptions& options) {
+                       const std::function<void(std::size_t, std::size_t)>& progress, const TransferOptions& options,
+                       const RejectedFrameHandler& on_rejected) {
   // Pass 1: the frame boundaries. A frame whose events are split by another frame is named as
   // such before any size is checked, since its pieces would otherwise only show up as size
   // mismatches.
@@ -181,7 +183,17 @@ TransferStats transfer(deform::PointModel& target, std::span<const CollisionReco
   FrameTransfer transfer(target, options);
   const std::size_t total = begin.size() - 1;
   for (std::size_t f = 0; f < total; ++f) {
-    transfer.apply(events.subspan(begin[f], begin[f + 1] - begin[f]));
+    try {
+      transfer.apply(events.subspan(begin[f], begin[f + 1] - begin[f]));
+      stats.last_frame = events[begin[f]].frame_id;
+    } catch (const FrameRejected& e) {
+      if (!on_rejected) throw;
+      ++stats.rejected;
+      if (!on_rejected(e)) {
+        stats.stopped = true;
+        break;
+      }
+    }
     if (progress) progress(f + 1, total);
   }
   stats.frames = transfer.frames_applied();

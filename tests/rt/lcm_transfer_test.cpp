@@ -420,5 +420,75 @@ TEST(Transfer, MalformedLogsNameTheFrame) {
   EXPECT_EQ(ft.frames_applied(), 0u);
 }
 
+// A frame whose finite numbers cannot be applied (a source at 1e300 puts NaN in the field; a
+// negative G fails the material's check) goes to the handler, the model as before that frame:
+// stopping leaves exactly the frames before it, passing over leaves exactly the other frames,
+// each compared with a transfer of those frames alone. Without a handler it is thrown.
+TEST(Transfer, ARejectedFrameStopsOrIsPassedOverAsTheHandlerSays) {
+  CollisionRecord r;
+  r.shear_modulus = 3e7;
+  r.poisson_ratio = 0.45;
+  r.frame_size = 1;
+  r.source = {2.0, 0.0, 0.0};
+  r.effective_force = {-1e6, 0.0, 0.0};
+  const auto frame = [&](std::int64_t id, const Vec3& source, double g) {
+    CollisionRecord e = r;
+    e.frame_id = id;
+    e.source = arr(source);
+    e.shear_modulus = g;
+    return e;
+  };
+  const std::vector<CollisionRecord> log = {frame(1, {2.0, 0.0, 0.0}, 3e7), frame(2, {1e300, 0.0, 0.0}, 3e7),
+                                            frame(3, {0.0, 2.0, 0.0}, 3e7), frame(4, {0.0, 0.0, 2.0}, -5.0),
+                                            frame(5, {0.0, -2.0, 0.0}, 3e7)};
+  const deform::PointModel base = deform::make_sphere(300);
+  const auto transferred = [&](const std::vector<CollisionRecord>& events) {
+    deform::PointModel m = base;
+    transfer(m, events);
+    return m;
+  };
+
+  std::vector<std::int64_t> seen;
+  deform::PointModel stopped = base;
+  const TransferStats stop = transfer(stopped, log, {}, {}, [&](const FrameRejected& e) {
+    seen.push_back(e.frame_id());
+    return false;
+  });
+  EXPECT_EQ(seen, (std::vector<std::int64_t>{2}));
+  EXPECT_TRUE(stop.stopped);
+  EXPECT_EQ(stop.frames, 1u);
+  EXPECT_EQ(stop.rejected, 1u);
+  EXPECT_EQ(stop.last_frame, 1);
+  EXPECT_EQ(compare_models(stopped, transferred({log[0]})).max, 0.0);
+
+  seen.clear();
+  std::string material_why;
+  deform::PointModel passed = base;
+  const TransferStats pass = transfer(passed, log, {}, {}, [&](const FrameRejected& e) {
+    seen.push_back(e.frame_id());
+    if (e.frame_id() == 4) material_why = e.why();
+    return true;
+  });
+  EXPECT_EQ(seen, (std::vector<std::int64_t>{2, 4}));
+  EXPECT_FALSE(pass.stopped);
+  EXPECT_EQ(pass.frames, 3u);
+  EXPECT_EQ(pass.rejected, 2u);
+  EXPECT_EQ(pass.last_frame, 5);
+  EXPECT_NE(material_why.find("shear modulus"), std::string::npos) << material_why;
+  EXPECT_EQ(compare_models(passed, transferred({log[0], log[2], log[4]})).max, 0.0);
+  EXPECT_GT(compare_models(passed, stopped).max, 0.0);
+  for (std::size_t i = 0; i < passed.size(); ++i) ASSERT_TRUE(deform::is_finite(passed.position(i))) << i;
+
+  deform::PointModel thrown = base;
+  try {
+    transfer(thrown, log);
+    ADD_FAILURE() << "no throw";
+  } catch (const FrameRejected& e) {
+    EXPECT_EQ(e.frame_id(), 2);
+    EXPECT_EQ(std::string(e.what()), "transfer: frame 2: " + e.why());
+  }
+  EXPECT_EQ(compare_models(thrown, transferred({log[0]})).max, 0.0);  // the frame before it applied
+}
+
 }  // namespace
 }  // namespace sculpt::rt

@@ -571,6 +571,32 @@ expect_json "corruption reported with byte offsets" "len(j['skipped']) >= 1 and 
 expect_json "replay stopped at the damage, at its offset" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/corrupt.expect") and j['produced_by_a_session']"
 expect_exit 0 "replay past the damage" -- "$SCULPT" replay "$work/corrupt.lcmlog" --model "$sphere" --skip-damage --json "$work/report.json"
 expect_json "past the damage the result is no session's" "j['recovery']['past_damage'] and not j['produced_by_a_session']"
+# Damage the reader cannot see: a whole event whose finite numbers no session logs (the second
+# collision frame's source moved to 1e300, which would put NaN in the model). Replay names the
+# log, the frame and its byte offset, stops at the frame before it (or passes over it with
+# --skip-damage), and writes the model; before, it stopped with exit 2, naming neither.
+python3 - "$work/sphere-squeeze.lcmlog" "$work/far-source.lcmlog" "$work/far-source.expect" <<'PY'
+import struct, sys
+data = bytearray(open(sys.argv[1], 'rb').read())
+pos, first, hit = 0, None, None
+while pos < len(data):
+    _, _, _, cl, dl = struct.unpack('>IqqiI', data[pos:pos + 28])
+    body = pos + 28 + cl + 8  # past the channel and the type's fingerprint
+    if data[pos + 28:pos + 28 + cl] == b'SCULPT_COLLISION':
+        frame_id = struct.unpack_from('>q', data, body + 262)[0]
+        first = frame_id if first is None else first
+        if hit is None and frame_id != first:  # the first event of the second frame
+            hit = pos
+            struct.pack_into('>d', data, body + 79, 1e300)  # source[0]
+    pos += 28 + cl + dl
+open(sys.argv[2], 'wb').write(bytes(data))
+open(sys.argv[3], 'w').write(str(hit))
+PY
+expect_exit 0 "replay a log with a far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --out "$work/far.ply" --json "$work/report.json"
+if grep -q "^damage   $work/far-source.lcmlog: byte offset $(cat "$work/far-source.expect"): frame [0-9]* cannot be applied: its forces give non-finite positions" "$work/err"; then ok "the far source is damage named by log, byte offset and frame"; else bad "far source: $(cat "$work/err")"; fi
+expect_json "replay stopped at the far source's frame" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/far-source.expect") and j['transfer']['rejected_frames'] == 1 and j['transfer']['frames'] >= 1 and j['produced_by_a_session']"
+expect_exit 0 "replay past the far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --skip-damage --out "$work/far-skip.ply" --json "$work/report.json"
+expect_json "past the far source every other frame applies" "j['recovery']['past_damage'] and not j['produced_by_a_session'] and j['transfer']['rejected_frames'] == 1 and j['transfer']['events'] > 0"
 expect_exit 1 "replay refuses zero normals when asked" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/zero.xyz" --bad-normals refuse
 one_line_error "replay refusal names the vertex" "zero.xyz: vertex 0 has a zero normal"
 expect_exit 0 "replay re-estimates zero normals" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/zero.xyz" --json "$work/report.json"

@@ -7,7 +7,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "sculpt/deform/deformer.hpp"
@@ -17,6 +20,19 @@
 #include "sculpt/logging/records.hpp"
 
 namespace sculpt::rt {
+
+/// A recorded frame that cannot be applied: what() is "transfer: frame N: why".
+class FrameRejected : public std::invalid_argument {
+ public:
+  FrameRejected(std::int64_t frame_id, const std::string& why);
+  std::int64_t frame_id() const { return frame_id_; }
+  /// The reason alone, without "transfer: frame N: ".
+  const std::string& why() const { return why_; }
+
+ private:
+  std::int64_t frame_id_;
+  std::string why_;
+};
 
 struct TransferOptions {
   /// How the per-point loop evaluates the kernel. Recorded frames do not say which precision
@@ -47,7 +63,7 @@ class FrameTransfer {
   /// are carried when the model has them (and options.field.carry_normals).
   ///
   /// Everything is checked before any point moves, so a rejected frame leaves the model as it
-  /// was: throws std::invalid_argument (naming the frame id) for more than kMaxSources events,
+  /// was: throws FrameRejected (naming the frame id) for more than kMaxSources events,
   /// mixed frame ids, kernels or materials, an index-set region (its points are not in the
   /// record), a non-positive radius, or a non-finite source or force; a frame whose result is
   /// not finite is undone (bit for bit) and rejected the same way. An empty frame does
@@ -83,19 +99,27 @@ class FrameTransfer {
 };
 
 struct TransferStats {
-  std::size_t frames = 0;
-  std::size_t events = 0;
+  std::size_t frames = 0;  // applied
+  std::size_t events = 0;  // in the frames applied
+  std::size_t rejected = 0;
+  std::optional<std::int64_t> last_frame;  // the last frame applied
+  bool stopped = false;                    // a rejected frame ended the transfer
 };
 
+/// What to do with a frame FrameTransfer::apply rejected (the model is as before it): true
+/// passes over it and goes on, false stops the transfer there.
+using RejectedFrameHandler = std::function<bool(const FrameRejected&)>;
+
 /// Applies a log of events in order, frame by frame: consecutive events with the same frame_id
-/// form one frame. The whole log is validated before the first frame is applied, so a
-/// malformed log leaves `target` untouched: throws std::invalid_argument naming the frame id
-/// when a frame's events are not consecutive (split by another frame) or their number differs
-/// from their frame_size, and whatever FrameTransfer::apply rejects. `progress(done, total)`
-/// is called after each frame, counting frames.
+/// form one frame. The log's structure is validated before the first frame is applied, so a
+/// malformed log leaves `target` untouched: throws FrameRejected naming the frame id when a
+/// frame's events are not consecutive (split by another frame) or their number differs from
+/// their frame_size. A frame FrameTransfer::apply rejects (a material out of range, forces
+/// giving non-finite positions) goes to `on_rejected`; without one it is thrown, the frames
+/// before it applied. `progress(done, total)` is called after each frame, counting frames.
 TransferStats transfer(deform::PointModel& target, std::span<const logging::CollisionRecord> events,
                        const std::function<void(std::size_t done, std::size_t total)>& progress = {},
-                       const TransferOptions& options = {});
+                       const TransferOptions& options = {}, const RejectedFrameHandler& on_rejected = {});
 
 /// The records of one Deformer frame, appended to `out`: one per collided probe, in probe
 /// order, sharing `frame_id`. Nothing is appended when the frame moved nothing (no collision,
