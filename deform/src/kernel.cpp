@@ -20,8 +20,8 @@ namespace {
 }  // namespace
 
 void Material::validate() const {
-  if (!(shear_modulus > 0.0 && shear_modulus <= kMaxShearModulus)) {
-    refuse("material: shear modulus G must lie in (0, 1e15]", shear_modulus);
+  if (!(shear_modulus >= kMinShearModulus && shear_modulus <= kMaxShearModulus)) {
+    refuse("material: shear modulus G must lie in [1e-15, 1e15]", shear_modulus);
   }
   if (!(poisson_ratio > -1.0 && poisson_ratio <= 0.5)) {
     refuse("material: Poisson's ratio nu must lie in (-1, 0.5]", poisson_ratio);

@@ -89,6 +89,7 @@ void read_material_and_kernel(const Section& root, Scene& scene) {
   const Section m = root.table("material", {"G", "nu"});
   if (const auto g = m.positive("G")) {
     m.check(*g <= deform::kMaxShearModulus, "G", "out of range: " + show(*g) + " is above 1e15");
+    m.check(*g >= deform::kMinShearModulus, "G", "out of range: " + show(*g) + " is below 1e-15");
     scene.material.shear_modulus = *g;
   }
   scene.material.poisson_ratio = m.number_in("nu", -1.0, true, 0.5, false).value_or(scene.material.poisson_ratio);

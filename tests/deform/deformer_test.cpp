@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "sculpt/deform/generators.hpp"
+#include "sculpt/deform/kernel.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -318,6 +320,30 @@ TEST(Deformer, FloatAndDoubleLoopsAgree) {
   da.deform({&push, 1});
   db.deform({&push, 1});
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_LT(norm(a.position(i) - b.position(i)), 1e-6);
+}
+
+// With the displacements prescribed, G cancels: the solved forces scale with G and the kernel
+// with 1/G, so a press moves the points alike at either end of the accepted range
+// (kMinShearModulus, kMaxShearModulus) as at the thesis's 3e7, in the float loop too; past
+// either end the forces leave the range the float loop carries.
+TEST(Deformer, APressMovesThePointsAlikeForEveryAcceptedShearModulus) {
+  const ProbeMotion push{pole_probe(1.1), pole_probe(0.9), std::nullopt};
+  PointModel reference = make_sphere();
+  Deformer(reference, sphere_settings()).deform({&push, 1});
+  const PointModel base = make_sphere();
+  double moved = 0.0;
+  for (std::size_t i = 0; i < base.size(); ++i) moved = std::max(moved, norm(reference.position(i) - base.position(i)));
+  ASSERT_GT(moved, 0.1);
+  for (const double g : {kMinShearModulus, 1.0, kMaxShearModulus}) {
+    PointModel m = make_sphere();
+    DeformSettings s = sphere_settings();
+    s.kernel.material.shear_modulus = g;
+    const FrameReport& r = Deformer(m, s).deform({&push, 1});
+    EXPECT_EQ(r.collisions, 1u) << g;
+    double worst = 0.0;
+    for (std::size_t i = 0; i < m.size(); ++i) worst = std::max(worst, norm(m.position(i) - reference.position(i)));
+    EXPECT_LT(worst, 1e-5 * moved) << "G = " << g;
+  }
 }
 
 // Kelvin's point force compresses the material ahead of it: at the contact, straight ahead of

@@ -204,6 +204,8 @@ TEST(KernelSettings, InvalidMaterialsAndRadiiAreRejected) {
   EXPECT_THROW(kelvin(std::nan(""), 0.3).validate(), std::invalid_argument);
   EXPECT_THROW(kelvin(3e7, std::nan("")).validate(), std::invalid_argument);
   EXPECT_NO_THROW(kelvin(1e-9, 0.3).validate());
+  EXPECT_NO_THROW(kelvin(1e-15, 0.3).validate());  // and below, kMinShearModulus
+  EXPECT_THROW(kelvin(0.99e-15, 0.3).validate(), std::invalid_argument);
   try {
     kelvin(-1e-9, 0.3).validate();
     ADD_FAILURE() << "accepted a negative G";  // its message prints it %g-style, not 0.000000

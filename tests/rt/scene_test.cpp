@@ -520,6 +520,8 @@ landmarks = [
       {"nu at -1", kMinimal + "[material]\nG = 1e6\nnu = -1\n", "material.nu", 10, "out of range"},
       {"negative G", kMinimal + "[material]\nG = -5\n", "material.G", 9, "must be > 0"},
       {"huge G", kMinimal + "[material]\nG = 2e15\n", "material.G", 9, "out of range: 2e+15 is above 1e15"},
+      // A G of 1e-36 passed and made every frame non-finite: the station sculpted nothing.
+      {"tiny G", kMinimal + "[material]\nG = 1e-36\n", "material.G", 9, "out of range: 1e-36 is below 1e-15"},
       {"negative bc radius", kMinimal + "[deform]\nbc_radius = -0.1\n", "deform.bc_radius", 9, "must be > 0"},
       {"negative region radius", kMinimal + "[heuristic]\nregion = -2\n", "heuristic.region", 9, "must be > 0"},
       {"budget above 1", kMinimal + "[heuristic]\nbudget_fraction = 1.5\n", "heuristic.budget_fraction", 9,

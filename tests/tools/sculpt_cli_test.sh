@@ -281,7 +281,9 @@ one_line_error "far second contact names index 1" "--contact 1 (after)"
 expect_exit 2 "huge delta-d" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --delta-d 1e30
 one_line_error "huge delta-d named" "--delta-d = 1e+30 is too large"
 expect_exit 2 "huge G" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --G 1e16
-one_line_error "huge G named" "shear modulus G must lie in (0, 1e15\], got 1e+16"
+one_line_error "huge G named" "shear modulus G must lie in \[1e-15, 1e15\], got 1e+16"
+expect_exit 2 "tiny G" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --G 1e-36
+one_line_error "tiny G named" "shear modulus G must lie in \[1e-15, 1e15\], got 1e-36"
 expect_exit 0 "spacing statistic reported" -- "$SCULPT" deform --model "$sphere" --contact 0,0,2:0,0,1.5 --json "$work/report.json"
 expect_json "spacing and its statistic in the report" "abs(j['spacing'] - 0.06) < 0.005 and j['spacing_statistic'].startswith('median nearest-neighbour distance over distinct points')"
 if grep -q "spacing 0.06.* (median nearest-neighbour distance over distinct points" "$work/out"; then ok "spacing statistic printed"; else bad "spacing statistic not printed: $(head -1 "$work/out")"; fi

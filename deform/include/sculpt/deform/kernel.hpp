@@ -11,9 +11,14 @@ namespace sculpt::deform {
 /// length L at distance R is about G L R), so past this they, and their products with model
 /// lengths, leave the range the float loop can carry.
 inline constexpr double kMaxShearModulus = 1e15;
+/// Smallest shear modulus accepted, for the same reason at the other end: the forces shrink with
+/// G, and on the bundled sphere a G of 1e-36 made every frame non-finite (each undone by the
+/// guard, so the station sculpted nothing), where 1e-30 still pressed as 3e7 does. Softer than
+/// any material in any units (a hydrogel is about 10 Pa, 1e-5 N/mm²).
+inline constexpr double kMinShearModulus = 1e-15;
 
 struct Material {
-  double shear_modulus = 3e7;   ///< G, in force per area of the model's units; in (0, kMaxShearModulus]
+  double shear_modulus = 3e7;   ///< G, in force per area of the model's units; in [kMinShearModulus, kMaxShearModulus]
   double poisson_ratio = 0.45;  ///< nu, in (-1, 0.5]; 0.5 is the incompressible limit
 
   double young_modulus() const { return 2.0 * shear_modulus * (1.0 + poisson_ratio); }
