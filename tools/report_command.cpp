@@ -63,6 +63,11 @@ class ReportCommand final : public Command {
   int run_report() {
     if (session_path_.empty() && !quick_)
       throw std::invalid_argument("give a scene, or --quick for the bundled sphere");
+    // --quick is the bundled sphere's session: beside another session it would be ignored.
+    if (quick_ && !session_path_.empty()) {
+      throw std::invalid_argument("--quick runs the bundled sphere's session; give " + session_path_ +
+                                  " or --quick, not both");
+    }
     if (session_path_.empty()) session_path_ = SCULPT_QUICK_SCENE;
     check_outputs(std::vector<NamedPath>{{"--json", json_path_}},
                   std::vector<NamedPath>{{"the session", session_path_}, {"the model (--model)", model_path_}});

@@ -697,6 +697,8 @@ refused_early "deform --json over the model" "--json $work/model-copy.ply is the
   "$SCULPT" deform --model "$work/model-copy.ply" --contact 0,0,1.1:0,0,0.95 --json "$work/model-copy.ply"
 refused_early "report --json over the session" "--json $work/sphere-squeeze.lcmlog is the session" \
   "$SCULPT" report "$work/sphere-squeeze.lcmlog" --out "$work/shared-report" --json "$work/sphere-squeeze.lcmlog"
+refused_early "report --quick beside a session" "--quick runs the bundled sphere's session; give $work/sphere-squeeze.lcmlog or --quick, not both" \
+  "$SCULPT" report "$work/sphere-squeeze.lcmlog" --quick --out "$work/quick-and-log"
 cp "$work/kept.lcmlog" "$work/log.png"
 refused_early "render --out over --log" "--out $work/log.png is the log (--log)" \
   "$SCULPT" render "$sphere" --log "$work/log.png" --out "$work/log.png"
