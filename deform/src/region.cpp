@@ -25,6 +25,10 @@ bool balls_apart(std::span<const Vec3> contacts, double radius) noexcept {
 
 }  // namespace
 
+double smallest_region_radius(const RegionSettings& settings, double bc_radius) {
+  return bc_radius + (settings.border_width > 0.0 ? settings.border_width : bc_radius);
+}
+
 Region::Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index, double bc_radius)
     : settings_(settings),
       border_width_(settings.border_width > 0.0 ? settings.border_width : bc_radius),
@@ -34,12 +38,10 @@ Region::Region(const RegionSettings& settings, const PointModel& model, const Po
     throw std::invalid_argument("region: border weight must be >= 0");
   }
   if (settings_.kind == Kind::kRadius) {
-    // The contact's own neighbourhood must lie wholly inside the region and clear of the band,
-    // or the frame would pin the very points it asks to move.
-    if (!(settings_.radius > bc_radius + border_width_)) {
+    if (!(settings_.radius > smallest_region_radius(settings_, bc_radius))) {
       throw std::invalid_argument("region: radius " + base::number_text(settings_.radius) +
                                   " must exceed the bc radius plus the border width (" +
-                                  base::number_text(bc_radius + border_width_) + ")");
+                                  base::number_text(smallest_region_radius(settings_, bc_radius)) + ")");
     }
   }
   measure_model(model);

@@ -3,10 +3,12 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "sculpt/base/number_text.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normal_check.hpp"
 #include "sculpt/deform/normals.hpp"
+#include "sculpt/deform/region.hpp"
 #include "sculpt/deform/settings_range.hpp"
 #include "sculpt/hal/backend_factory.hpp"
 #include "sculpt/rt/reduced_model.hpp"
@@ -81,6 +83,14 @@ void check_against_model(const StationSetup& s, const Scene& scene) {
     if (s.settings.region.kind == RegionPolicy::Kind::kRadius) {
       deform::check_length_against_model("heuristic.region", s.settings.region.radius, deform::LengthRule::kPositive,
                                          extent);
+      // Else refused only by the deformer, without the key, once the station is built.
+      const double floor =
+          deform::smallest_region_radius(s.settings.deform.region, s.settings.deform.contact.bc_radius);
+      if (!(s.settings.region.radius > floor)) {
+        throw std::invalid_argument("heuristic.region: radius " + base::number_text(s.settings.region.radius) +
+                                    " must exceed deform.bc_radius plus the region's border width (" +
+                                    base::number_text(floor) + ")");
+      }
     }
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(scene.file + ": " + e.what());
@@ -102,7 +112,15 @@ StationSetup prepare_station(const Scene& scene) {
     s.notes.push_back("reduced model set: " + std::to_string(s.model.size()) + " of " + std::to_string(full) +
                       " points (heuristic.reduced_ratio)");
   }
-  s.spacing = deform::typical_spacing(s.model, deform::PointIndex(s.model));
+  try {
+    s.spacing = deform::typical_spacing(s.model, deform::PointIndex(s.model));
+  } catch (const std::invalid_argument& e) {
+    // A reduced set too small to have a length is the scene's ratio, not the model file.
+    if (!s.full_model) throw;
+    throw std::invalid_argument(
+        scene.file + ": heuristic.reduced_ratio = " + base::number_text(scene.heuristic.reduced_ratio) + " leaves " +
+        std::to_string(s.model.size()) + " of " + std::to_string(s.full_model->points) + " points: " + e.what());
+  }
 
   StationSettings& st = s.settings;
   st.rate_hz = scene.loop.rate_hz;

@@ -73,6 +73,22 @@ TEST(StationSetup, LengthsFarBeyondTheModelAreRefusedNamingTheKey) {
   EXPECT_EQ(refusal(sphere_scene("[deform]\ndelta_r = 3e3\n")), "accepted");
 }
 
+// A reduced set too small to have a length scale is named by the ratio that made it.
+TEST(StationSetup, AReducedRatioLeavingNoLengthScaleIsRefusedNamingTheKey) {
+  EXPECT_EQ(refusal(sphere_scene("[heuristic]\nreduced_ratio = 1e-300\n")),
+            "t.toml: heuristic.reduced_ratio = 1e-300 leaves 1 of 3203 points: the model's points all coincide: no "
+            "length scale (it has a single point)");
+  EXPECT_EQ(refusal(sphere_scene("[heuristic]\nreduced_ratio = 0.01\n")), "accepted");
+}
+
+// A region must hold its contact's neighbourhood and the pinned band inside its border: a radius
+// not above bc_radius twice was refused only by the deformer, naming no key.
+TEST(StationSetup, ARegionTooSmallForItsContactAndBorderIsRefusedNamingTheKey) {
+  EXPECT_EQ(refusal(sphere_scene("[deform]\nbc_radius = 0.05\n[heuristic]\nregion = 0.1\n")),
+            "t.toml: heuristic.region: radius 0.1 must exceed deform.bc_radius plus the region's border width (0.1)");
+  EXPECT_EQ(refusal(sphere_scene("[deform]\nbc_radius = 0.05\n[heuristic]\nregion = 0.1001\n")), "accepted");
+}
+
 TEST(StationSetup, NanAndHugeMaterialsAreRefusedWhenTheSceneIsRead) {
   const std::pair<const char*, const char*> cases[] = {{"[deform]\ndelta_d = nan\n", "deform.delta_d"},
                                                        {"[deform]\nbc_radius = inf\n", "deform.bc_radius"},

@@ -38,6 +38,11 @@ struct RegionSettings {
   bool global_when_cheaper = true;
 };
 
+/// The radius a kRadius region must exceed: the contact's neighbourhood (bc_radius) and the
+/// pinned band inside the border must both fit, or the frame would pin the very points it asks
+/// to move. Region's constructor refuses a radius not above it.
+double smallest_region_radius(const RegionSettings& settings, double bc_radius);
+
 /// What a region frame's moved point costs over a global frame's point, measured here (see
 /// RegionSettings::global_when_cheaper): on the bundled sphere, one and three fingers, a region
 /// frame cost as much as the global one at 14-16 % of the points; on the 100k dragon's
