@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "lcm_url_option.hpp"
 #include "number_check.hpp"
 #include "sculpt/base/time_limits.hpp"
 #include "sculpt/hal/serial_frame_writer.hpp"
@@ -73,7 +74,7 @@ class GloveSimCommand final : public Command {
     sub_ = app.add_subcommand("glove-sim", "Play a scene's simulated glove into a serial device or over LCM");
     sub_->add_option("scene", scene_path_, "Scene file with a glove.sim script")->required();
     auto* serial = sub_->add_option("--serial", serial_, "Serial device to write the wire protocol to");
-    auto* lcm = sub_->add_option("--lcm", lcm_url_, "LCM URL to publish glove samples on");
+    auto* lcm = sub_->add_option("--lcm", lcm_url_, "LCM URL to publish glove samples on")->check(lcm_url_check());
     // A channel given with --serial would be ignored: refused instead.
     sub_->add_option("--channel", channel_, "LCM channel (with --lcm)")->default_val("SCULPT_GLOVE")->needs(lcm);
     serial->excludes(lcm);

@@ -16,6 +16,7 @@
 #include "commands.hpp"
 #include "guard_report.hpp"
 #include "json_report.hpp"
+#include "lcm_url_option.hpp"
 #include "number_check.hpp"
 #include "output_paths.hpp"
 #include "sculpt/base/time_limits.hpp"
@@ -63,7 +64,8 @@ class RunCommand final : public Command {
     sub_->add_option("--json", json_path_, "Write the run summary here (overrides output.json; '-' for stdout)");
     auto* serial = sub_->add_option("--serial", serial_device_,
                                     "Read the glove from this serial device (overrides glove.backend)");
-    auto* lcm = sub_->add_option("--lcm", lcm_url_, "Read the glove from this LCM URL (overrides glove.backend)");
+    auto* lcm = sub_->add_option("--lcm", lcm_url_, "Read the glove from this LCM URL (overrides glove.backend)")
+                    ->check(lcm_url_check());
     serial->excludes(lcm);  // one glove backend: the later would silently win
     sub_->add_flag("--quiet", quiet_, "No live status line");
     sub_->add_flag("--replace-log", replace_log_,

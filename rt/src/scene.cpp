@@ -9,6 +9,7 @@
 #include "scene_reader.hpp"
 #include "sculpt/base/regular_file.hpp"
 #include "sculpt/base/time_limits.hpp"
+#include "sculpt/rt/transport_url.hpp"
 
 namespace sculpt::rt {
 
@@ -347,8 +348,7 @@ void read_serial(const Section& s, hal::SerialConfig& serial) {
 
 void read_lcm_transport(const Section& s, const std::string& default_url, std::string& url, std::string& channel) {
   url = s.string("url").value_or(default_url);
-  s.check(url.find("://") != std::string::npos, "url",
-          "'" + url + "' is not an LCM URL (provider://address, e.g. udpm://239.255.76.67:7667)");
+  if (const std::string problem = lcm_url_problem(url); !problem.empty()) s.fail("url", problem);
   if (const auto c = s.string("channel")) {
     s.check(!c->empty(), "channel", "must not be empty");
     channel = *c;
@@ -583,7 +583,9 @@ void read_registration(const Section& root, Scene& scene) {
     for (std::size_t i = 0; i < 4; ++i) {
       v[i] = as_number(s.context(), *a->get(i), s.key("axis_angle") + "[" + std::to_string(i) + "]");
     }
-    const double axis = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    // hypot, not the square root of the squares: an axis of 1e300 overflowed to inf, and the
+    // rotation came out as a quaternion of norm cos(angle / 2), refused later without this key.
+    const double axis = std::hypot(v[0], v[1], v[2]);
     s.check(axis > 0.0, "axis_angle", "the axis must not be zero");
     const double half = 0.5 * v[3];
     r.rotation = {std::cos(half), std::sin(half) * v[0] / axis, std::sin(half) * v[1] / axis,
@@ -696,8 +698,7 @@ void read_loop(const Section& root, Scene& scene) {
 void read_lcm(const Section& root, Scene& scene) {
   const Section s = root.table("lcm", {"url", "publish"});
   if (const auto url = s.string("url")) {
-    s.check(url->find("://") != std::string::npos, "url",
-            "'" + *url + "' is not an LCM URL (provider://address, e.g. udpm://239.255.76.67:7667)");
+    if (const std::string problem = lcm_url_problem(*url); !problem.empty()) s.fail("url", problem);
     scene.lcm.url = *url;
   }
   scene.lcm.publish = s.boolean("publish").value_or(scene.lcm.publish);

@@ -210,6 +210,21 @@ TEST(Scene, LoadSceneResolvesAgainstTheFilesOwnDirectory) {
   fs::remove_all(dir.parent_path());
 }
 
+// The axis is normalised without squaring it: an axis of 1e300 (or 1e-300) squared to inf (or
+// 0), which gave a rotation of norm cos(angle / 2) (or "the axis must not be zero").
+TEST(Scene, AnAxisAngleOfAnyFiniteAxisLengthIsAUnitRotation) {
+  const double h = std::sqrt(0.5);
+  for (const char* axis : {"1e300, 1e300, 0", "1e-300, 1e-300, 0", "2, 2, 0"}) {
+    const Scene s =
+        parse_scene(kMinimal + "[registration]\naxis_angle = [" + axis + ", 3.141592653589793]\n", "t.toml", "/base");
+    const auto& q = s.registration.rotation;
+    EXPECT_NEAR(q[0], 0.0, 1e-15) << axis;
+    EXPECT_NEAR(q[1], h, 1e-15) << axis;
+    EXPECT_NEAR(q[2], h, 1e-15) << axis;
+    EXPECT_EQ(q[3], 0.0) << axis;
+  }
+}
+
 TEST(Scene, AnUnreadableFileIsNamed) {
   try {
     load_scene("/nonexistent/scene.toml");
@@ -756,6 +771,20 @@ keyframes = [[0, 0, 0, 1]]
        "glove.sim.script[1]", 11, "hand 0 finger 'little' does not act: glove.hands is [1]"},
       {"dropout of 1", sim_scene("dropout = 1.0"), "glove.sim.dropout", 6, "out of range: 1 is not in [0, 1)"},
       {"bad lcm url", kMinimal + "[lcm]\nurl = \"239.255.76.67\"\n", "lcm.url", 9, "is not an LCM URL"},
+      // Each of these passed the scene and failed only once LCM was opened, on two lines (LCM's
+      // own stderr, then ours) naming no key.
+      {"lcm url, no such provider", kMinimal + "[lcm]\nurl = \"udp://239.255.76.67:7667\"\n", "lcm.url", 9,
+       "'udp://239.255.76.67:7667' names no LCM provider (udpm, mpudpm, tcpq, memq or file)"},
+      {"lcm url, not an address", kMinimal + "[lcm]\nurl = \"udpm://999.1.1.1:7667?ttl=0\"\n", "lcm.url", 9,
+       "'udpm://999.1.1.1:7667?ttl=0' is not a usable LCM URL: '999.1.1.1' is not an IPv4 address"},
+      {"lcm url, not multicast", kMinimal + "[lcm]\nurl = \"udpm://127.0.0.1:7667\"\n", "lcm.url", 9,
+       "'127.0.0.1' is not a multicast address (224.0.0.0 to 239.255.255.255)"},
+      {"lcm url, port", kMinimal + "[lcm]\nurl = \"udpm://239.255.76.67:70000\"\n", "lcm.url", 9,
+       "port '70000' is not in 1..65535"},
+      {"lcm url, ttl", kMinimal + "[lcm]\nurl = \"udpm://239.255.76.67:7667?ttl=x\"\n", "lcm.url", 9,
+       "ttl 'x' is not in 0..255"},
+      {"glove lcm url", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"lcm\"\n[glove.lcm]\nurl = \"file://\"\n",
+       "glove.lcm.url", 6, "'file://' is not a usable LCM URL: names no file"},
   };
 }
 

@@ -284,6 +284,10 @@ expect_exit 2 "huge G" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0
 one_line_error "huge G named" "shear modulus G must lie in \[1e-15, 1e15\], got 1e+16"
 expect_exit 2 "tiny G" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.9 --G 1e-36
 one_line_error "tiny G named" "shear modulus G must lie in \[1e-15, 1e15\], got 1e-36"
+# An LCM URL is checked where it enters, as a scene's lcm.url is: before, a bad one reached LCM,
+# which printed its own complaint and failed once the station was built.
+expect_exit 2 "--lcm on a unicast address" -- "$SCULPT" run "$repo/scenes/sphere-press.toml" --lcm udpm://127.0.0.1:7667 --duration 1
+one_line_error "--lcm refusal names the address" "'127.0.0.1' is not a multicast address"
 expect_exit 0 "spacing statistic reported" -- "$SCULPT" deform --model "$sphere" --contact 0,0,2:0,0,1.5 --json "$work/report.json"
 expect_json "spacing and its statistic in the report" "abs(j['spacing'] - 0.06) < 0.005 and j['spacing_statistic'].startswith('median nearest-neighbour distance over distinct points')"
 if grep -q "spacing 0.06.* (median nearest-neighbour distance over distinct points" "$work/out"; then ok "spacing statistic printed"; else bad "spacing statistic not printed: $(head -1 "$work/out")"; fi

@@ -24,6 +24,7 @@
 #include "catch_up_log.hpp"
 #include "commands.hpp"
 #include "frame_follower.hpp"
+#include "lcm_url_option.hpp"
 #include "image_window.hpp"
 #include "lcm_receiver.hpp"
 #include "number_check.hpp"
@@ -66,7 +67,8 @@ class ViewCommand final : public Command {
   explicit ViewCommand(CLI::App& app) {
     sub_ = app.add_subcommand("view", "A window that follows the station over LCM, or plays a recorded session");
     sub_->add_option("scene", scene_path_, "Scene file (.toml): its base model is what the edits apply to")->required();
-    auto* lcm = sub_->add_option("--lcm", url_, "Follow the station on this LCM URL (default: the scene's lcm.url)");
+    auto* lcm = sub_->add_option("--lcm", url_, "Follow the station on this LCM URL (default: the scene's lcm.url)")
+                    ->check(lcm_url_check());
     auto* log = sub_->add_option("--log", log_path_, "Play this recorded session (sculpt run's output.log)");
     lcm->excludes(log);
     sub_->add_option("--catch-up", catch_up_path_,
