@@ -1,5 +1,5 @@
 #pragma once
-// --bad-normals, shared by the commands that load a model file (deform, replay): the option,
+// --bad-normals, shared by the commands that load a model file (deform, replay, render): the option,
 // the check it asks for, the stderr line and the JSON entry, so both say the same thing.
 
 #include <nlohmann/json_fwd.hpp>

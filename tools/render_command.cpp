@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "bad_normals_option.hpp"
 #include "commands.hpp"
 #include "number_check.hpp"
 #include "output_paths.hpp"
@@ -179,6 +180,7 @@ class RenderCommand final : public Command {
         ->check(CLI::IsMember({"x", "y", "z"}))
         ->default_val("y");
     sub_->add_option("--size", size_text_, "WxH of each view, in pixels")->default_val("800x600");
+    bad_normals_.add_to(*sub_);
   }
 
   bool chosen() const override { return sub_->parsed(); }
@@ -264,10 +266,13 @@ class RenderCommand final : public Command {
   }
 
   // A model with no points, or whose points all coincide, has nothing to draw: the fault is
-  // the file's, so it is reported as the file's (exit 1), not as an argument.
-  static deform::PointModel read_and_check(const std::string& path) {
+  // the file's, so it is reported as the file's (exit 1), not as an argument. Zero or NaN normals
+  // are re-estimated (or refused) as deform and replay do: lit by them, a model drew as one dark
+  // disc, with no word why.
+  deform::PointModel read_and_check(const std::string& path) const {
     deform::PointModel model = deform::read_model(path);
     if (model.empty()) throw deform::ModelFileError(path, "", "the model has no points to draw");
+    bad_normals_.check(model, path);
     return model;
   }
 
@@ -277,6 +282,7 @@ class RenderCommand final : public Command {
   int views_ = 1;
   double arrow_scale_ = 1.0;
   render::PictureRequest request_;
+  BadNormalsOption bad_normals_;
 };
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -109,6 +110,30 @@ TEST_F(RenderCommand, ComparesAndMakesRowsOfViews) {
   const render::Image row = read_png(path("views.png"));
   EXPECT_EQ(row.width, 3 * 64);
   EXPECT_EQ(row.height, 48);
+}
+
+// Zero normals are re-estimated as deform and replay do, and said so: lit by them the sphere drew
+// as one flat dark disc. The picture then has the sphere's shading: the same brightness as the
+// picture with the file's true normals, pixel for pixel within a few levels. Or refused.
+TEST_F(RenderCommand, ZeroNormalsAreReestimatedAndDrawnLikeTheTrueOnes) {
+  deform::PointModel flat = deform::read_model(sphere_);
+  for (std::size_t i = 0; i < flat.size(); ++i) flat.set_normal(i, {0.0, 0.0, 0.0});
+  const std::string zero = path("zero.ply");
+  deform::write_model(zero, flat);
+  const CommandResult truth = run({sphere_, "--out", path("true.png"), "--size", "96x80"});
+  ASSERT_EQ(truth.status, 0) << truth.output;
+  const CommandResult repaired = run({zero, "--out", path("zero.png"), "--size", "96x80"});
+  ASSERT_EQ(repaired.status, 0) << repaired.output;
+  EXPECT_NE(repaired.output.find(zero + ": 2,000 zero or non-finite normals re-estimated"), std::string::npos)
+      << repaired.output;
+  const render::Image a = read_png(path("true.png")), b = read_png(path("zero.png"));
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  double difference = 0.0, spread = 0.0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) difference += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) spread += std::abs(int(a.pixels[i]) - int(a.pixels[0]));
+  EXPECT_LT(difference, 0.05 * spread) << "the repaired sphere is shaded as the true one";
+  expect_one_line_error(run({zero, "--out", path("refused.png"), "--bad-normals", "refuse"}), 1,
+                        "zero.ply: vertex 0 has a zero normal");
 }
 
 TEST_F(RenderCommand, BadArgumentsAreExitTwoBeforeAnythingIsRead) {
