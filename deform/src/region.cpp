@@ -25,13 +25,17 @@ bool balls_apart(std::span<const Vec3> contacts, double radius) noexcept {
 
 }  // namespace
 
+double region_border_width(const RegionSettings& settings, double bc_radius) {
+  return settings.border_width > 0.0 ? settings.border_width : bc_radius;
+}
+
 double smallest_region_radius(const RegionSettings& settings, double bc_radius) {
-  return bc_radius + (settings.border_width > 0.0 ? settings.border_width : bc_radius);
+  return bc_radius + region_border_width(settings, bc_radius);
 }
 
 Region::Region(const RegionSettings& settings, const PointModel& model, const PointIndex& index, double bc_radius)
     : settings_(settings),
-      border_width_(settings.border_width > 0.0 ? settings.border_width : bc_radius),
+      border_width_(region_border_width(settings, bc_radius)),
       min_radius_(1.01 * (bc_radius + border_width_)) {
   using Kind = RegionSettings::Kind;
   if (!(settings_.border_weight >= 0.0) || !std::isfinite(settings_.border_weight)) {

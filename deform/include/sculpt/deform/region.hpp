@@ -38,6 +38,10 @@ struct RegionSettings {
   bool global_when_cheaper = true;
 };
 
+/// The width of the pinned band inside a region's border: the setting, or bc_radius when it is
+/// unset (0), so that a contact's neighbourhood and the band have the same scale by default.
+double region_border_width(const RegionSettings& settings, double bc_radius);
+
 /// The radius a kRadius region must exceed: the contact's neighbourhood (bc_radius) and the
 /// pinned band inside the border must both fit, or the frame would pin the very points it asks
 /// to move. Region's constructor refuses a radius not above it.
