@@ -157,13 +157,34 @@ const char* finger_name(std::uint8_t finger) {
   return finger < 5 ? kNames[finger] : "?";
 }
 
-void progress_bar(const char* what, std::size_t done, std::size_t total) {
-  if (!isatty(STDERR_FILENO) || total == 0) return;
-  const int width = 40, filled = static_cast<int>(width * done / total);
-  std::fprintf(stderr, "\r%-8s [%s%s] %3zu%%", what, std::string(filled, '#').c_str(),
-               std::string(width - filled, ' ').c_str(), 100 * done / total);
-  if (done == total) std::fprintf(stderr, "\n");
-}
+// A progress line on a terminal (nothing otherwise). end() closes a line the work left short
+// of 100 % (a transfer stopped at damage) or that a message is about to interrupt, so what is
+// printed next starts a line of its own.
+class ProgressLine {
+ public:
+  explicit ProgressLine(const char* what) : what_(what), tty_(isatty(STDERR_FILENO) != 0) {}
+  ProgressLine(const ProgressLine&) = delete;
+  ProgressLine& operator=(const ProgressLine&) = delete;
+  ~ProgressLine() { end(); }
+
+  void show(std::size_t done, std::size_t total) {
+    if (!tty_ || total == 0) return;
+    const int width = 40, filled = static_cast<int>(width * done / total);
+    std::fprintf(stderr, "\r%-8s [%s%s] %3zu%%", what_, std::string(filled, '#').c_str(),
+                 std::string(width - filled, ' ').c_str(), 100 * done / total);
+    open_ = true;
+    if (done == total) end();
+  }
+  void end() {
+    if (open_) std::fputc('\n', stderr);
+    open_ = false;
+  }
+
+ private:
+  const char* what_;
+  bool tty_;
+  bool open_ = false;
+};
 #endif
 
 class ReplayCommand final : public Command {
@@ -492,9 +513,14 @@ class ReplayCommand final : public Command {
     std::optional<deform::PointModel> transferred, rerun;
     if (mode_ != "rerun") {
       transferred = base;
+      ProgressLine progress("transfer");
       const rt::TransferStats stats = rt::transfer(
-          *transferred, events, [](std::size_t d, std::size_t t) { progress_bar("transfer", d, t); }, {},
-          [&](const rt::FrameRejected& e) { return pass_over_rejected_frame(e, log, json); });
+          *transferred, events, [&](std::size_t d, std::size_t t) { progress.show(d, t); }, {},
+          [&](const rt::FrameRejected& e) {
+            progress.end();
+            return pass_over_rejected_frame(e, log, json);
+          });
+      progress.end();
       if (stats.rejected > 0 && !stats.stopped) json["produced_by_a_session"] = false;
       const nlohmann::json last = stats.last_frame ? nlohmann::json(*stats.last_frame) : nlohmann::json(nullptr);
       if (stats.stopped) json["recovery"]["last_frame"] = last;
@@ -572,12 +598,14 @@ class ReplayCommand final : public Command {
     const std::int64_t end = last + static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9) + 2 * period;
     const std::size_t total = static_cast<std::size_t>((end - first) / period + 1);
     std::size_t done = 0;
+    ProgressLine progress("re-run");
     for (std::int64_t t = first; t <= end; t += period) {
       replay->set_now(t);
       const rt::TickReport& report = station.tick(t, period);
       if (recorder) recorder->tick(report, 0, 0, 0.0);
-      if (++done % 1000 == 0 || t + period > end) progress_bar("re-run", done, total);
+      if (++done % 1000 == 0 || t + period > end) progress.show(done, total);
     }
+    progress.end();
     json["rerun"] = {{"ticks", station.totals().ticks},
                      {"frames", station.totals().frames},
                      { "collisions",

@@ -601,6 +601,9 @@ PY
 expect_exit 0 "replay a log with a far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --out "$work/far.ply" --json "$work/report.json"
 if grep -q "^damage   $work/far-source.lcmlog: byte offset $(cat "$work/far-source.expect"): frame [0-9]* cannot be applied: its forces give non-finite positions" "$work/err"; then ok "the far source is damage named by log, byte offset and frame"; else bad "far source: $(cat "$work/err")"; fi
 expect_json "replay stopped at the far source's frame" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/far-source.expect") and j['transfer']['rejected_frames'] == 1 and j['transfer']['frames'] >= 1 and j['produced_by_a_session']"
+# On a terminal, the transfer's progress line is closed before the damage report interrupts it.
+script -qec "'$SCULPT' replay '$work/far-source.lcmlog' --model '$sphere' --out '$work/far-tty.ply'" /dev/null < /dev/null > "$work/tty" 2>&1
+if python3 -c "import re, sys; t = open(sys.argv[1], 'rb').read(); sys.exit(0 if b'transfer [' in t and re.search(rb'\]  *[0-9]+%\r?\ndamage   ', t) and not re.search(rb'%damage', t) else 1)" "$work/tty"; then ok "a stopped transfer ends its progress line before the damage report"; else bad "progress line on a terminal: $(tr '\r' '~' < "$work/tty" | head -c 600)"; fi
 expect_exit 0 "replay past the far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --skip-damage --out "$work/far-skip.ply" --json "$work/report.json"
 expect_json "past the far source every other frame applies" "j['recovery']['past_damage'] and not j['produced_by_a_session'] and j['transfer']['rejected_frames'] == 1 and j['transfer']['events'] > 0"
 expect_exit 1 "replay refuses zero normals when asked" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$work/zero.xyz" --bad-normals refuse
