@@ -532,7 +532,16 @@ class ReplayCommand final : public Command {
                   base.size());
     }
     if (mode_ != "transfer") {
-      rerun = rerun_session(log, json);
+      // A transfer that ended early (at damage, or at a crash's cut with a frame left
+      // incomplete) is compared with a re-run of the same frames: the glove samples go on past
+      // that frame, and a re-run of them all would compare two different sessions.
+      std::optional<std::int64_t> until;
+      const nlohmann::json& recovery = json["recovery"];
+      if (transferred && (!recovery["stopped_at_damage"].is_null() || !recovery["cut"].is_null())) {
+        const nlohmann::json& last = json["transfer"]["last_frame"];
+        until = last.is_null() ? std::int64_t{-1} : last.get<std::int64_t>();
+      }
+      rerun = rerun_session(log, json, until);
     }
     if (transferred && rerun) {
       const rt::ModelDifference d = rt::compare_models(*rerun, *transferred);
@@ -562,7 +571,8 @@ class ReplayCommand final : public Command {
   // Mode a: the logged glove samples through the whole station, in virtual time, so the same
   // log, scene and model give the same result bit for bit. With --record, the re-run writes a
   // durable log of its own, as a live session would.
-  deform::PointModel rerun_session(const SessionLog& log, nlohmann::json& json) {
+  // With `until`, the re-run stops after the tick that ran that frame (-1: before any frame).
+  deform::PointModel rerun_session(const SessionLog& log, nlohmann::json& json, std::optional<std::int64_t> until) {
     rt::Scene scene = rt::load_scene(scene_path_);
     scene.model.path = model_path_;
     if (bad_normals_.given()) scene.model.bad_normals = bad_normals_.policy();
@@ -600,6 +610,7 @@ class ReplayCommand final : public Command {
     std::size_t done = 0;
     ProgressLine progress("re-run");
     for (std::int64_t t = first; t <= end; t += period) {
+      if (until && station.next_frame_id() > *until) break;
       replay->set_now(t);
       const rt::TickReport& report = station.tick(t, period);
       if (recorder) recorder->tick(report, 0, 0, 0.0);
@@ -610,6 +621,12 @@ class ReplayCommand final : public Command {
                      {"frames", station.totals().frames},
                      { "collisions",
                        station.totals().collisions }};
+    json["rerun"]["until_frame"] = until ? nlohmann::json(*until) : nlohmann::json(nullptr);
+    json["rerun"]["next_frame"] = station.next_frame_id();
+    if (until) {
+      std::printf("re-run   stops after frame %lld, the transfer's last (the log ends early there)\n",
+                  static_cast<long long>(*until));
+    }
     if (recorder) {
       recorder->stop();
       const rt::RecordingCounts c = recorder->counts();

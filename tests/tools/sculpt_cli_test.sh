@@ -601,6 +601,12 @@ PY
 expect_exit 0 "replay a log with a far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --out "$work/far.ply" --json "$work/report.json"
 if grep -q "^damage   $work/far-source.lcmlog: byte offset $(cat "$work/far-source.expect"): frame [0-9]* cannot be applied: its forces give non-finite positions" "$work/err"; then ok "the far source is damage named by log, byte offset and frame"; else bad "far source: $(cat "$work/err")"; fi
 expect_json "replay stopped at the far source's frame" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/far-source.expect") and j['transfer']['rejected_frames'] == 1 and j['transfer']['frames'] >= 1 and j['produced_by_a_session']"
+# --mode both compares the transfer with a re-run of the same frames: the glove samples go on
+# past the damaged frame, so the re-run stops after the transfer's last frame.
+expect_exit 0 "replay both modes on a log with a far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode both --json "$work/report.json"
+expect_json "the re-run stopped at the transfer's last frame, and the two agree" "j['rerun']['until_frame'] == j['transfer']['last_frame'] == j['rerun']['next_frame'] - 1 and j['rerun']['collisions'] == j['transfer']['events'] and j['difference']['max'] == 0"
+expect_exit 0 "replay both modes on the whole log" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode both --json "$work/report.json"
+expect_json "a whole log's re-run runs every sample, and agrees" "j['rerun']['until_frame'] is None and j['rerun']['next_frame'] - 1 > j['transfer']['last_frame'] and j['rerun']['collisions'] == j['transfer']['events'] and j['difference']['max'] == 0"
 # On a terminal, the transfer's progress line is closed before the damage report interrupts it.
 script -qec "'$SCULPT' replay '$work/far-source.lcmlog' --model '$sphere' --out '$work/far-tty.ply'" /dev/null < /dev/null > "$work/tty" 2>&1
 if python3 -c "import re, sys; t = open(sys.argv[1], 'rb').read(); sys.exit(0 if b'transfer [' in t and re.search(rb'\]  *[0-9]+%\r?\ndamage   ', t) and not re.search(rb'%damage', t) else 1)" "$work/tty"; then ok "a stopped transfer ends its progress line before the damage report"; else bad "progress line on a terminal: $(tr '\r' '~' < "$work/tty" | head -c 600)"; fi
@@ -761,6 +767,8 @@ PY
 expect_exit 0 "replay a cut log" -- "$SCULPT" replay "$work/cut.lcmlog" --model "$sphere" --json "$work/report.json"
 expect_json "the cut is reported at its byte offset" "j['recovery']['cut'] is not None and j['recovery']['cut']['offset'] == $(cat "$work/cut.expect") and j['produced_by_a_session']"
 if grep -q "byte offset $(cat "$work/cut.expect")" "$work/err"; then ok "the cut's offset on stderr"; else bad "no cut offset on stderr: $(cat "$work/err")"; fi
+expect_exit 0 "replay both modes on a cut log" -- "$SCULPT" replay "$work/cut.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode both --json "$work/report.json"
+expect_json "a cut log's re-run stops at its last complete frame, and agrees" "j['rerun']['until_frame'] == j['transfer']['last_frame'] == j['recovery']['last_frame'] and j['difference']['max'] == 0"
 # An older log, from before the header: accepted with a warning.
 python3 - "$work/sphere-squeeze.lcmlog" "$work/old.lcmlog" <<'PY'
 import struct, sys

@@ -134,6 +134,9 @@ class Station {
   const std::vector<FingerState>& fingers() const { return fingers_; }
   const StationSettings& settings() const { return settings_; }
   const StationTotals& totals() const { return totals_; }
+  /// The id the next collision frame will carry: ids count every frame the deformer ran, a
+  /// split step's frames each, as the log records them.
+  std::int64_t next_frame_id() const noexcept { return frame_id_; }
   /// The last collision frame's report (an empty report before the first frame).
   const deform::FrameReport& last_frame() const { return *last_frame_; }
   hal::SourceCounters glove_counters() const { return glove_->counters(); }
