@@ -214,11 +214,14 @@ class ReplayCommand final : public Command {
     auto* force = sub_->add_flag("--force", force_, "Apply the log to a model it was not recorded on");
     sub_->add_flag("--skip-damage", skip_damage_,
                    "Go on past damage inside the log (the result is then a model no session produced)");
+    auto* strict = sub_->add_flag("--strict", strict_,
+                                  "Exit 3 when the log held damage (the model is still written; a crash's cut at the "
+                                  "end is not damage)");
     bad_normals_.add_to(*sub_);
     // --list only prints the strokes (of the log recovered as replay would, so --skip-damage
     // and --json still apply): everything about a model would be ignored.
-    for (CLI::Option* unused :
-         {model, scene, mode, out, record, replace_log, until, drop, force, sub_->get_option("--bad-normals")}) {
+    for (CLI::Option* unused : {model, scene, mode, out, record, replace_log, until, drop, force, strict,
+                                sub_->get_option("--bad-normals")}) {
       list->excludes(unused);
     }
   }
@@ -563,8 +566,18 @@ class ReplayCommand final : public Command {
       deform::write_model(out_path_, result);
       std::printf("wrote    %s\n", out_path_.c_str());
     }
+    // Damage is what --strict turns into a status: the reader's inside the log (stopped at or
+    // passed over) and frames the transfer could not apply. A cut at the end is a crash's
+    // normal trace, and its every complete frame applies.
+    const nlohmann::json& recovery = json["recovery"];
+    const bool damaged = !recovery["stopped_at_damage"].is_null() || recovery["past_damage"].get<bool>();
+    json["damaged"] = damaged;
     json["time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!json_path_.empty()) write_json(json_path_, json);
+    if (strict_ && damaged) {
+      std::fprintf(stderr, "strict   %s held damage (above): exit %d\n", log_path_.c_str(), kExitDamage);
+      return kExitDamage;
+    }
     return kExitOk;
   }
 
@@ -647,7 +660,7 @@ class ReplayCommand final : public Command {
   std::string log_path_, model_path_, scene_path_, mode_, out_path_, json_path_, record_path_;
   std::optional<std::int64_t> until_frame_;
   std::size_t drop_stroke_ = 0;
-  bool list_ = false, force_ = false, skip_damage_ = false, replace_log_ = false;
+  bool list_ = false, force_ = false, skip_damage_ = false, strict_ = false, replace_log_ = false;
   BadNormalsOption bad_normals_;
 };
 

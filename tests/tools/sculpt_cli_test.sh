@@ -577,6 +577,15 @@ expect_json "corruption reported with byte offsets" "len(j['skipped']) >= 1 and 
 expect_json "replay stopped at the damage, at its offset" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/corrupt.expect") and j['produced_by_a_session']"
 expect_exit 0 "replay past the damage" -- "$SCULPT" replay "$work/corrupt.lcmlog" --model "$sphere" --skip-damage --json "$work/report.json"
 expect_json "past the damage the result is no session's" "j['recovery']['past_damage'] and not j['produced_by_a_session']"
+# --strict turns damage into exit 3, still writing the model up to it (or past it).
+rm -f "$work/strict.ply"
+expect_exit 3 "replay --strict on a corrupt log" -- "$SCULPT" replay "$work/corrupt.lcmlog" --model "$sphere" --strict --out "$work/strict.ply" --json "$work/report.json"
+if [[ -s $work/strict.ply ]] && grep -q "^strict   $work/corrupt.lcmlog held damage" "$work/err"; then ok "--strict still wrote the model and said why it failed"; else bad "--strict: $(cat "$work/err")"; fi
+expect_json "--strict's JSON says damaged" "j['damaged'] and j['recovery']['stopped_at_damage'] is not None"
+expect_exit 3 "replay --strict --skip-damage on a corrupt log" -- "$SCULPT" replay "$work/corrupt.lcmlog" --model "$sphere" --strict --skip-damage
+expect_exit 0 "replay --strict on a whole log" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --strict --json "$work/report.json"
+expect_json "a whole log is not damaged" "not j['damaged']"
+expect_exit 2 "--strict with --list" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --list --strict
 # Damage the reader cannot see: a whole event whose finite numbers no session logs (the second
 # collision frame's source moved to 1e300, which would put NaN in the model). Replay names the
 # log, the frame and its byte offset, stops at the frame before it (or passes over it with
@@ -601,6 +610,7 @@ PY
 expect_exit 0 "replay a log with a far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --out "$work/far.ply" --json "$work/report.json"
 if grep -q "^damage   $work/far-source.lcmlog: byte offset $(cat "$work/far-source.expect"): frame [0-9]* cannot be applied: its forces give non-finite positions" "$work/err"; then ok "the far source is damage named by log, byte offset and frame"; else bad "far source: $(cat "$work/err")"; fi
 expect_json "replay stopped at the far source's frame" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/far-source.expect") and j['transfer']['rejected_frames'] == 1 and j['transfer']['frames'] >= 1 and j['produced_by_a_session']"
+expect_exit 3 "replay --strict on a log with a far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --strict
 # --mode both compares the transfer with a re-run of the same frames: the glove samples go on
 # past the damaged frame, so the re-run stops after the transfer's last frame.
 expect_exit 0 "replay both modes on a log with a far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode both --json "$work/report.json"
@@ -769,6 +779,8 @@ expect_json "the cut is reported at its byte offset" "j['recovery']['cut'] is no
 if grep -q "byte offset $(cat "$work/cut.expect")" "$work/err"; then ok "the cut's offset on stderr"; else bad "no cut offset on stderr: $(cat "$work/err")"; fi
 expect_exit 0 "replay both modes on a cut log" -- "$SCULPT" replay "$work/cut.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode both --json "$work/report.json"
 expect_json "a cut log's re-run stops at its last complete frame, and agrees" "j['rerun']['until_frame'] == j['transfer']['last_frame'] == j['recovery']['last_frame'] and j['difference']['max'] == 0"
+expect_exit 0 "replay --strict on a cut log (a crash's trace, not damage)" -- "$SCULPT" replay "$work/cut.lcmlog" --model "$sphere" --strict --json "$work/report.json"
+expect_json "a cut log is not damaged" "not j['damaged'] and j['recovery']['cut'] is not None"
 # An older log, from before the header: accepted with a warning.
 python3 - "$work/sphere-squeeze.lcmlog" "$work/old.lcmlog" <<'PY'
 import struct, sys
