@@ -22,6 +22,7 @@
 #include "commands.hpp"
 #include "number_check.hpp"
 #include "output_paths.hpp"
+#include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/render/picture.hpp"
 #include "sculpt/render/png_file.hpp"
@@ -96,12 +97,26 @@ struct SessionOverlay {
 // The session as pictures: each fingertip's path in the model frame, and for each collision its
 // probe (a dot) and the force F = P_f - A as an arrow from the contact point A toward the probe,
 // `arrow_scale` times its length (a press of a few percent of the model is hard to see at 1).
-SessionOverlay read_session_overlay(const std::string& path, double arrow_scale) {
+//
+// The camera is fitted to everything drawn, so a position no session logs (finite, but 1e300
+// from the model) would shrink the model to nothing or leave no finite frame at all. What lies
+// beyond the station's own probe range (deform::GuardSettings::probe_range diagonals from the
+// model's centre; the station drops fingertips beyond it) is not drawn, counted, and named by
+// its first byte offset.
+SessionOverlay read_session_overlay(const std::string& path, double arrow_scale, const deform::PointModel& model) {
   SessionOverlay session;
   std::map<std::pair<int, int>, render::Polyline> paths;  // by (hand, finger)
   const auto skip = [&](std::uint64_t, const std::string& what) {
     std::fprintf(stderr, "skipped  %s\n", what.c_str());
     ++session.skipped;
+  };
+  const render::Vec3 centre = model.bounding_box_centre();
+  const double range = deform::GuardSettings{}.probe_range * std::max(model.bounding_box_diagonal(), 1e-30);
+  const auto near_model = [&](const render::Vec3& p) { return deform::is_finite(p) && norm(p - centre) <= range; };
+  std::size_t far = 0;
+  std::uint64_t first_far = 0;
+  const auto skip_far = [&](std::uint64_t offset) {
+    if (far++ == 0) first_far = offset;
   };
   std::size_t sculpt_events = 0;
   const auto take = [&](const logging::LogEvent& event) {
@@ -114,7 +129,10 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale)
         return;
       }
       const render::Vec3 p{tip.registered[0], tip.registered[1], tip.registered[2]};
-      if (!deform::is_finite(p)) return;
+      if (!near_model(p)) {
+        skip_far(event.offset);
+        return;
+      }
       render::Polyline& line = paths[{tip.hand, tip.finger}];
       if (line.points.empty()) {
         const render::Rgb c = finger_color(tip.finger);
@@ -132,10 +150,15 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale)
         return;
       }
       const render::Vec3 contact{c.contact[0], c.contact[1], c.contact[2]};
-      const render::Vec3 force{c.force[0], c.force[1], c.force[2]};
+      const render::Vec3 tip = contact + arrow_scale * render::Vec3{c.force[0], c.force[1], c.force[2]};
+      const render::Vec3 probe{c.probe[0], c.probe[1], c.probe[2]};
+      if (!near_model(contact) || !near_model(tip) || !near_model(probe)) {
+        skip_far(event.offset);
+        return;
+      }
       const render::Rgb color = finger_color(c.finger);
-      session.overlay.arrows.push_back({contact, contact + arrow_scale * force, color});
-      session.overlay.markers.push_back({{c.probe[0], c.probe[1], c.probe[2]}, color, 7.0});
+      session.overlay.arrows.push_back({contact, tip, color});
+      session.overlay.markers.push_back({probe, color, 7.0});
       ++session.collisions;
     }
   };
@@ -145,6 +168,14 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale)
   if (sculpt_events == 0) {
     throw std::runtime_error(path + ": not a glovesculpt log: no event on a SCULPT_ channel in its " +
                              std::to_string(totals.file_size) + " bytes");
+  }
+  if (far > 0) {
+    std::fprintf(stderr,
+                 "skipped  %s: %zu events hold a position beyond %.4g model units of the model's centre (%g "
+                 "diagonals, the station's probe range), the first at byte offset %llu: not drawn\n",
+                 path.c_str(), far, range, deform::GuardSettings{}.probe_range,
+                 static_cast<unsigned long long>(first_far));
+    session.skipped += far;
   }
   for (auto& [finger, line] : paths) session.overlay.paths.push_back(std::move(line));
   return session;
@@ -243,7 +274,7 @@ class RenderCommand final : public Command {
     }
 #if SCULPT_HAS_LCM
     if (!log_path_.empty()) {
-      SessionOverlay session = read_session_overlay(log_path_, arrow_scale_);
+      SessionOverlay session = read_session_overlay(log_path_, arrow_scale_, model);
       std::printf("log      %s: %zu collision events, %zu fingertip states%s\n", log_path_.c_str(), session.collisions,
                   session.fingertips,
                   session.skipped ? (", " + std::to_string(session.skipped) + " skipped").c_str() : "");

@@ -814,6 +814,24 @@ unused "replay --scene with --until-frame" "--scene is not used by --mode transf
 # sculpt render --log reads the log with replay's walk: damage is skipped and counted.
 expect_exit 0 "render a session over its model" -- "$SCULPT" render "$work/sphere-squeeze.ply" --log "$work/corrupt.lcmlog" --arrow-scale 3 --out "$work/session.png" --size 64x64
 if grep -q "^log      $work/corrupt.lcmlog: [1-9][0-9]* collision events, [1-9][0-9]* fingertip states, [1-9][0-9]* skipped" "$work/out" && grep -q "^skipped  .*byte offset" "$work/err"; then ok "render --log draws the events and names the damage"; else bad "render --log: $(cat "$work/out" "$work/err")"; fi
+# A finite position no session logs (the far-source log's second frame moved to 1e300, here
+# its contact too) is not drawn: the camera is fitted to what is drawn, and it left no finite
+# frame (exit 1, "cannot fit a camera").
+python3 - "$work/sphere-squeeze.lcmlog" "$work/far-contact.lcmlog" <<'PY'
+import struct, sys
+data = bytearray(open(sys.argv[1], 'rb').read())
+pos, n = 0, 0
+while pos < len(data):
+    _, _, _, cl, dl = struct.unpack('>IqqiI', data[pos:pos + 28])
+    if data[pos + 28:pos + 28 + cl] == b'SCULPT_COLLISION':
+        n += 1
+        if n == 2:
+            struct.pack_into('>d', data, pos + 28 + cl + 8 + 55, 1e300)  # contact[0]
+    pos += 28 + cl + dl
+open(sys.argv[2], 'wb').write(bytes(data))
+PY
+expect_exit 0 "render a log with a contact at 1e300" -- "$SCULPT" render "$work/sphere-squeeze.ply" --log "$work/far-contact.lcmlog" --out "$work/far-contact.png" --size 64x64
+if grep -q "^skipped  $work/far-contact.lcmlog: 1 events hold a position beyond .* the first at byte offset [0-9]*: not drawn" "$work/err" && grep -q ", 1 skipped$" "$work/out"; then ok "the far contact is counted and named, not drawn"; else bad "far contact: $(cat "$work/out" "$work/err")"; fi
 # The thesis's reduced model set: record on 10 % of a 40,000-point sphere, transfer to all of it.
 expect_exit 0 "generate 40k sphere" -- "$SCULPT" generate sphere --points 40000 --out "$work/sphere40k.ply"
 sed "s|path = \"\.\./data/sphere_3203.ply\"|path = \"$work/sphere40k.ply\"|; s|\.\./out/|$work/r40k-|g; s|^\[heuristic\]|[heuristic]\nreduced_ratio = 0.1|" "$scenes/sphere-squeeze.toml" > "$work/reduced.toml"
