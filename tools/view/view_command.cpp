@@ -257,16 +257,32 @@ class ViewCommand final : public Command {
   // the last frame.
   int play() {
     const view::SessionLog log = view::read_session_log(log_path_);
+    // Damage is skipped and said, and a frame it left short of its events is not played (its
+    // forces were solved together; some of them alone would move the copy where the station
+    // never went): what replay --skip-damage applies, so the copy stays the session's but for
+    // the frames named here.
+    if (log.damaged > 0) {
+      status_line(log_path_ + ": " + std::to_string(log.damaged) +
+                  " damaged or cut places skipped (sculpt replay names each by its byte offset)");
+    }
     std::vector<std::pair<std::size_t, std::size_t>> frames;  // [begin, end) of each frame's events
-    std::vector<double> times;
     for (std::size_t i = 0; i < log.collisions.size(); ++i) {
       if (i == 0 || log.collisions[i].frame_id != log.collisions[i - 1].frame_id) {
         frames.emplace_back(i, i + 1);
-        times.push_back(log.collisions[i].time_s);
       } else {
         frames.back().second = i + 1;
       }
     }
+    std::erase_if(frames, [&](const std::pair<std::size_t, std::size_t>& f) {
+      const logging::CollisionRecord& first = log.collisions[f.first];
+      const std::size_t events = f.second - f.first;
+      if (events == static_cast<std::size_t>(first.frame_size)) return false;
+      status_line("frame " + std::to_string(first.frame_id) + " incomplete (" + std::to_string(events) + " of " +
+                  std::to_string(first.frame_size) + " events): not played");
+      return true;
+    });
+    std::vector<double> times;
+    for (const auto& f : frames) times.push_back(log.collisions[f.first].time_s);
     view::Playback playback(std::move(times), paused_);
     std::size_t applied = 0, tips = 0, ticks = 0;
     // The first status line says the window is up: whoever reads it may send keys at once.
