@@ -107,7 +107,7 @@ python3 - "$out" "$t_before" "$t_after" "$root/scripts" <<'PY'
 import json, os, sys
 out, t0, t1 = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
 sys.path.insert(0, sys.argv[4])
-import lcm_log  # the run's own log: one SCULPT_TICK record per tick
+import lcm_log  # the run's own log: a SCULPT_TICK record for every tick of half the period or more
 
 
 def slow_ticks(log):

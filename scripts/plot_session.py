@@ -5,8 +5,9 @@
 
 Top: the haptic force magnitude per finger (newtons, SCULPT_HAPTIC) when the session sent
 haptics over LCM, otherwise |F| = |P_f - A| of each collision (model units, SCULPT_COLLISION).
-Bottom: each tick's compute time and its budget (microseconds, SCULPT_TICK). Time is seconds
-since the session's first event. Reads the log with scripts/lcm_log.py; plots with Debian's
+Bottom: each logged tick's compute time and its budget (microseconds, SCULPT_TICK; the log keeps
+every tick in which something happened, every slow one, and a quiet one per
+output.tick_interval_ms). Time is seconds since the session's first event. Reads the log with scripts/lcm_log.py; plots with Debian's
 python3-matplotlib.
 """
 import argparse

@@ -242,10 +242,15 @@ class RunCommand final : public Command {
   static nlohmann::json recording_json(const rt::RecordingCounts& c) {
     nlohmann::json j = nlohmann::json::object();
     if (c.logging) {
-      j["log"] = {{"path", c.log_path},         {"glove_samples", c.glove_samples},
-                  {"fingertips", c.fingertips}, {"collisions", c.collisions},
-                  {"ticks", c.ticks},           {"haptic", c.haptic},
-                  {"dropped", c.log_dropped},   {"write_errors", c.write_errors}};
+      j["log"] = {{"path", c.log_path},
+                  {"glove_samples", c.glove_samples},
+                  {"fingertips", c.fingertips},
+                  {"collisions", c.collisions},
+                  {"ticks", c.ticks},
+                  {"ticks_left_out", c.ticks_left_out},
+                  {"haptic", c.haptic},
+                  {"dropped", c.log_dropped},
+                  {"write_errors", c.write_errors}};
     }
     if (c.publishing) {
       j["live"] = {{"collisions", c.live_collisions},

@@ -14,7 +14,8 @@ logging::Vec3f f3(const deform::Vec3& v) {
 
 }  // namespace
 
-LcmSessionRecorder::LcmSessionRecorder(const Scene& scene, const std::optional<SessionHeader>& header) {
+LcmSessionRecorder::LcmSessionRecorder(const Scene& scene, const std::optional<SessionHeader>& header)
+    : log_ticks_(tick_log_interval(scene.output.tick_interval_ms, scene.loop.rate_hz), 0.5e6 / scene.loop.rate_hz) {
   if (scene.output.log) {
     logging::DurableLogConfig config;
     config.path = *scene.output.log;
@@ -53,6 +54,7 @@ RecordingCounts LcmSessionRecorder::counts() const {
     r.fingertips = c[logging::LogKind::kFingertip].written;
     r.collisions = c[logging::LogKind::kCollision].written;
     r.ticks = c[logging::LogKind::kTick].written;
+    r.ticks_left_out = log_ticks_.left_out();
     r.haptic = c[logging::LogKind::kHaptic].written;
     r.log_dropped = c.dropped();
     r.write_errors = c.write_errors;
@@ -127,7 +129,7 @@ void LcmSessionRecorder::tick(const TickReport& t, std::uint64_t overruns, std::
   r.min_jacobian = static_cast<float>(t.min_jacobian);
   r.guards_acted = static_cast<std::int32_t>(t.guards.total());
   r.out_of_range = static_cast<std::int64_t>(t.out_of_range);
-  if (log_) log_->record(r);
+  if (log_ && log_ticks_.keep(t, overruns, missed, tick_time_us)) log_->record(r);
   if (publisher_) publisher_->publish(r);
 }
 

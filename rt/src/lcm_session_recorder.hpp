@@ -7,6 +7,7 @@
 #include "sculpt/logging/durable_log.hpp"
 #include "sculpt/logging/lcm_publisher.hpp"
 #include "sculpt/rt/session_recorder.hpp"
+#include "sculpt/rt/tick_log_filter.hpp"
 
 namespace sculpt::rt {
 
@@ -31,6 +32,7 @@ class LcmSessionRecorder final : public SessionRecorder {
  private:
   std::unique_ptr<logging::DurableLog> log_;
   std::unique_ptr<logging::LcmPublisher> publisher_;
+  TickLogFilter log_ticks_;  // which ticks the durable log keeps (the live channel gets all)
   std::array<logging::CollisionRecord, deform::kMaxSources> collisions_{};  // one frame's, reused
 };
 

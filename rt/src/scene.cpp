@@ -705,7 +705,7 @@ void read_lcm(const Section& root, Scene& scene) {
 }
 
 void read_output(const Section& root, const std::string& base_dir, Scene& scene) {
-  const Section s = root.table("output", {"model", "log", "json", "flush_interval_ms"});
+  const Section s = root.table("output", {"model", "log", "json", "flush_interval_ms", "tick_interval_ms"});
   auto& out = scene.output;
   out.model = path_value(s, "model", base_dir);
   if (out.model) {
@@ -719,6 +719,10 @@ void read_output(const Section& root, const std::string& base_dir, Scene& scene)
   if (const auto flush = timeout_ms(s, "flush_interval_ms")) {
     if (!out.log) s.fail("flush_interval_ms", "only used with output.log");
     out.flush_interval_ms = *flush;
+  }
+  if (const auto ticks = timeout_ms(s, "tick_interval_ms", /*zero_allowed=*/true)) {
+    if (!out.log) s.fail("tick_interval_ms", "only used with output.log");
+    out.tick_interval_ms = *ticks;
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt/rt/transfer.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
+#include "sculpt_lcm/tick_stats_t.hpp"
 #include "station_fixtures.hpp"
 #include "support/allocation_counter.hpp"
 
@@ -26,14 +28,19 @@ namespace {
 using namespace test_fixtures;
 namespace fs = std::filesystem;
 
-std::vector<logging::CollisionRecord> logged_collisions(const fs::path& path, std::size_t& ticks) {
+std::vector<logging::CollisionRecord> logged_collisions(const fs::path& path, std::vector<std::int64_t>& ticks) {
   std::vector<logging::CollisionRecord> out;
-  ticks = 0;
+  ticks.clear();
   logging::EventLogReader reader(path.string());
   logging::LogEvent event;
   for (auto r = reader.next(event); r != logging::EventLogReader::Result::kEnd; r = reader.next(event)) {
     EXPECT_EQ(r, logging::EventLogReader::Result::kEvent) << reader.error();
-    if (event.channel == logging::kTickChannel) ++ticks;
+    if (event.channel == logging::kTickChannel) {
+      sculpt_lcm::tick_stats_t tick{};
+      std::string error;
+      EXPECT_TRUE(logging::decode(event, tick, error)) << error;
+      ticks.push_back(tick.tick);
+    }
     if (event.channel != logging::kCollisionChannel) continue;
     sculpt_lcm::collision_event_t message;
     std::string error;
@@ -88,14 +95,26 @@ TEST(SessionRecorder, TheRecordedTickAllocatesNothingAndTheLogRebuildsTheModel) 
   const RecordingCounts counts = recorder->counts();
   EXPECT_EQ(counts.log_dropped, 0u);
   EXPECT_EQ(counts.write_errors, 0u);
-  std::size_t logged_ticks = 0;
+  std::vector<std::int64_t> logged_ticks;
   const std::vector<logging::CollisionRecord> events = logged_collisions(*scene.output.log, logged_ticks);
-  EXPECT_EQ(logged_ticks, ticks);
+  // The log keeps the eventful ticks and a quiet one every 100 ms (100 ticks at 1 kHz), and
+  // counts the rest: every tick accounted for, every collision's tick kept, no longer gap.
+  EXPECT_EQ(logged_ticks.size() + counts.ticks_left_out, ticks);
+  EXPECT_EQ(counts.ticks, logged_ticks.size());
+  EXPECT_GT(counts.ticks_left_out, ticks / 2) << "the quiet ticks were kept";
+  ASSERT_FALSE(logged_ticks.empty());
+  EXPECT_EQ(logged_ticks.front(), 0);
+  for (std::size_t k = 1; k < logged_ticks.size(); ++k) {
+    EXPECT_GT(logged_ticks[k], logged_ticks[k - 1]);
+    EXPECT_LE(logged_ticks[k] - logged_ticks[k - 1], 100) << "a gap of quiet ticks longer than the interval";
+  }
   // A stroke of many collisions. How many depends on the auto region, which is sized from the
   // machine's measured speed: 10 to 17 seen (the collision test's surface reads the dent's rim).
   ASSERT_GE(station.totals().collisions, 8u);
   ASSERT_EQ(events.size(), station.totals().collisions);
   for (const logging::CollisionRecord& e : events) {
+    EXPECT_TRUE(std::binary_search(logged_ticks.begin(), logged_ticks.end(), e.tick))
+        << "collision tick " << e.tick << " left out of the log";
     EXPECT_EQ(e.hand, 0);
     EXPECT_EQ(e.finger, 1);
     EXPECT_NE(e.utime, 0);

@@ -176,6 +176,7 @@ TEST(Scene, DefaultsAreApplied) {
   EXPECT_FALSE(s.output.log);
   EXPECT_FALSE(s.output.json);
   EXPECT_DOUBLE_EQ(s.output.flush_interval_ms, 100.0);
+  EXPECT_DOUBLE_EQ(s.output.tick_interval_ms, 100.0);
 }
 
 TEST(Scene, RelativePathsResolveAgainstTheSceneDirectory) {
@@ -391,6 +392,7 @@ publish = true
 [output]
 log = "e.lcmlog"
 flush_interval_ms = 20
+tick_interval_ms = 0
 )");
   EXPECT_EQ(s.model.normals, NormalsSource::kNone);  // a reference point replaces normals
   EXPECT_EQ(*s.model.reference, (deform::Vec3{0, 0, 10}));
@@ -426,6 +428,7 @@ flush_interval_ms = 20
   EXPECT_TRUE(s.lcm.publish);
   EXPECT_EQ(*s.output.log, "/base/e.lcmlog");
   EXPECT_DOUBLE_EQ(s.output.flush_interval_ms, 20.0);
+  EXPECT_DOUBLE_EQ(s.output.tick_interval_ms, 0.0);
 }
 
 TEST(Scene, FastInverseSqrtIsReadInFloat) {
@@ -706,6 +709,8 @@ interface = 0
        "sim glove sends fingertip positions"},
       {"flush interval without a log", kMinimal + "[output]\nflush_interval_ms = 50\n", "output.flush_interval_ms", 9,
        "only used with output.log"},
+      {"tick interval without a log", kMinimal + "[output]\ntick_interval_ms = 50\n", "output.tick_interval_ms", 9,
+       "only used with output.log"},
       {"output overwrites the model", kMinimal + "[output]\nmodel = \"./m.ply\"\n", "output.model", 9,
        "would overwrite"},
       // A NUL ends a path for the system: "p.txt\u0000.ply" passed the extension check and then
@@ -826,6 +831,8 @@ TEST(Scene, TimesTimeoutsAndRatesAreBoundedAbove) {
        "out of range: 1e+300 is not in (0, 1e+06] (N/s: 1000 N in a millisecond)"},
       {"[output]\nlog = \"x.lcmlog\"\nflush_interval_ms = 1e13\n", "output.flush_interval_ms",
        "out of range: 1e+13 is not in (0, 3.6e+06] (milliseconds: at most an hour)"},
+      {"[output]\nlog = \"x.lcmlog\"\ntick_interval_ms = -1\n", "output.tick_interval_ms",
+       "out of range: -1 is not in [0, 3.6e+06] (milliseconds: at most an hour)"},
   };
   for (const Bound& b : bounds) {
     SCOPED_TRACE(b.key);

@@ -126,9 +126,12 @@ class SessionFolder : public ::testing::Test {
   }
 
   /// The one-finger press with a dead band below one glove sample's step, so that the press
-  /// is a frame per sample (about fifteen in contact) rather than the default's two.
-  fs::path press_scene(const std::string& extra) const {
-    return scene("sphere-press", extra, {{"mode = \"push\"", "mode = \"push\"\ndelta_s = 0.004"}});
+  /// is a frame per sample (about fifteen in contact) rather than the default's two. With
+  /// `log_every_tick`, its log keeps every tick's record, as the live channel carries them.
+  fs::path press_scene(const std::string& extra, bool log_every_tick = false) const {
+    std::vector<std::pair<std::string, std::string>> edits = {{"mode = \"push\"", "mode = \"push\"\ndelta_s = 0.004"}};
+    if (log_every_tick) edits.emplace_back("[output]", "[output]\ntick_interval_ms = 0");
+    return scene("sphere-press", extra, edits);
   }
 
   /// Runs the station on `scene` for `seconds`, quietly; its exit code.

@@ -164,6 +164,9 @@ struct OutputScene {
   std::optional<std::string> log;    ///< durable event log (LCM log format), resolved
   std::optional<std::string> json;   ///< summary, resolved
   double flush_interval_ms = 100.0;  ///< how often the log is flushed to disk
+  /// The log keeps every eventful tick and a quiet one at least this often (0: every tick;
+  /// TickLogFilter).
+  double tick_interval_ms = 100.0;
 };
 
 struct Scene {
