@@ -14,7 +14,8 @@ namespace sculpt::tools {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;  ///< the input could not be processed (unreadable model, ...)
 inline constexpr int kExitUsage = 2;    ///< bad arguments
-/// `replay --strict`: the log held damage; the model up to it (or past it) was still written.
+/// The edit history is damaged or incomplete, and the model was still written: `replay
+/// --strict` read damage in the log; `run` could not write every event to its log.
 inline constexpr int kExitDamage = 3;
 
 /// A registered subcommand: run() is called when the user chose it.

@@ -22,6 +22,7 @@
 #include "json_report.hpp"
 #include "number_check.hpp"
 #include "output_paths.hpp"
+#include "recording_check.hpp"
 #include "sculpt/deform/model_identity.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/normals.hpp"
@@ -578,7 +579,7 @@ class ReplayCommand final : public Command {
       std::fprintf(stderr, "strict   %s held damage (above): exit %d\n", log_path_.c_str(), kExitDamage);
       return kExitDamage;
     }
-    return kExitOk;
+    return record_complete_ ? kExitOk : kExitDamage;
   }
 
   // Mode a: the logged glove samples through the whole station, in virtual time, so the same
@@ -647,6 +648,7 @@ class ReplayCommand final : public Command {
                                    "write_errors",
                                    c.write_errors
                                  }};
+      record_complete_ = log_is_complete(c, "the re-run's model");
     }
     std::printf("re-run   %llu ticks, %llu frames, %llu collisions on %zu points\n",
                 static_cast<unsigned long long>(station.totals().ticks),
@@ -661,6 +663,7 @@ class ReplayCommand final : public Command {
   std::optional<std::int64_t> until_frame_;
   std::size_t drop_stroke_ = 0;
   bool list_ = false, force_ = false, skip_damage_ = false, strict_ = false, replace_log_ = false;
+  bool record_complete_ = true;  // --record wrote every event of the re-run
   BadNormalsOption bad_normals_;
 };
 

@@ -19,6 +19,7 @@
 #include "lcm_url_option.hpp"
 #include "number_check.hpp"
 #include "output_paths.hpp"
+#include "recording_check.hpp"
 #include "sculpt/base/time_limits.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/normal_check.hpp"
@@ -231,6 +232,9 @@ class RunCommand final : public Command {
                   static_cast<double>(t.collision_frame_time.max()) * 1e-3);
     }
     if (!out.empty()) std::printf("wrote    %s\n", out.c_str());
+    if (recorder && !log_is_complete(recorder->counts(), out.empty() ? "the model" : "the model written to " + out)) {
+      return kExitDamage;
+    }
     return kExitOk;
   }
 

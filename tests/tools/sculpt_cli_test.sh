@@ -345,6 +345,20 @@ if [[ $with_lcm == ON ]]; then
   expect_exit 0 "run --replace-log starts the log afresh" -- "$SCULPT" run "$press_scene" --duration 0.3 --quiet \
     --replace-log --out "$work/run2.ply" --json "$work/report2.json"
   if cmp -s "$work/sphere-press.lcmlog" "$work/first-session.lcmlog"; then bad "--replace-log kept the old log"; else ok "--replace-log replaced the log"; fi
+  # A log that cannot take every event (a full disk; here a file size limit of 100 KiB, with
+  # SIGXFSZ ignored, since a full disk raises no signal): the run says so and exits 3, the model
+  # still written; the log then ends as a crash's does, and replay applies its complete frames.
+  (trap '' XFSZ; ulimit -f 100; exec "$SCULPT" run "$press_scene" --duration 4 --quiet --replace-log \
+    --out "$work/full.ply" --json "$work/report.json") >"$work/out" 2>"$work/err"
+  got=$?
+  if [[ $got -eq 3 && -s $work/full.ply ]] && grep -q "^log      $work/sphere-press.lcmlog is incomplete: 0 events dropped (the logger fell behind), [1-9][0-9]* writes failed" "$work/err"; then
+    ok "a log that lost events fails the run (exit 3), naming the log"
+  else
+    bad "a log that lost events (exit $got): $(head -c 400 "$work/err")"
+  fi
+  expect_json "the summary counts the failed writes" "j['recording']['log']['write_errors'] > 0"
+  expect_exit 0 "replay the log the full disk cut" -- "$SCULPT" replay "$work/sphere-press.lcmlog" --model "$repo/data/sphere_3203.ply" --json "$work/report.json"
+  expect_json "the full disk's log reads as cut" "j['recovery']['cut'] is not None and not j['damaged']"
   # The scene started twice at once: the second session is refused even with --replace-log,
   # before it truncates the log the first is writing, and the first's log stays whole (base
   # model + log = its sculpted model).
@@ -552,6 +566,10 @@ expect_exit 2 "re-run refuses to erase the log it recorded before" -- "$SCULPT" 
 one_line_error "the refusal names --record and the way to replace it" "\-\-record $work/rerun.lcmlog already holds a session.*--replace-log"
 if cmp -s "$work/rerun.lcmlog" "$work/rerun-first.lcmlog"; then ok "the refused re-run left its log as it was"; else bad "the refused re-run changed the log"; fi
 expect_exit 0 "re-run --replace-log" -- "$SCULPT" replay "${rerun_args[@]}" --record "$work/rerun.lcmlog" --replace-log
+# A re-run's log that cannot take every event fails the replay as it fails a run (exit 3).
+(trap '' XFSZ; ulimit -f 100; exec "$SCULPT" replay "${rerun_args[@]}" --record "$work/rerun-full.lcmlog") >"$work/out" 2>"$work/err"
+got=$?
+if [[ $got -eq 3 ]] && grep -q "^log      $work/rerun-full.lcmlog is incomplete: .* writes failed" "$work/err"; then ok "a re-run's log that lost events fails the replay (exit 3)"; else bad "re-run log that lost events (exit $got): $(head -c 400 "$work/err")"; fi
 if [[ $work/rerun.lcmlog -nt $work/rerun-first.lcmlog && -s $work/rerun.lcmlog ]]; then ok "--replace-log wrote the log again"; else bad "--replace-log left the log unwritten"; fi
 expect_exit 2 "--replace-log needs --record" -- "$SCULPT" replay "${rerun_args[@]}" --replace-log
 expect_exit 2 "rerun needs a scene" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --mode rerun
