@@ -193,11 +193,19 @@ class RunCommand final : public Command {
     status.join();
 
     const std::string out = !out_path_.empty() ? out_path_ : scene.output.model.value_or("");
+    // The session is over and its log closed: a model that cannot be written (a full disk) must
+    // not also cost the summary, and the log still holds the session.
+    std::string model_error;
     if (!out.empty()) {
-      create_parent(out);
-      deform::write_model(out, setup.model);
+      try {
+        create_parent(out);
+        deform::write_model(out, setup.model);
+      } catch (const std::exception& e) {
+        model_error = e.what();
+      }
     }
     nlohmann::json summary = make_summary(*station, loop);
+    summary["model_written"] = out.empty() ? nlohmann::json(nullptr) : nlohmann::json(model_error.empty());
     stamp_summary(summary);
     if (recorder) summary["recording"] = recording_json(recorder->counts());
     summary["normals_checked"] = {{"zero_or_nonfinite", normals.zero_or_nonfinite},
@@ -231,11 +239,22 @@ class RunCommand final : public Command {
                   static_cast<double>(t.collision_frame_time.quantile(0.999)) * 1e-3,
                   static_cast<double>(t.collision_frame_time.max()) * 1e-3);
     }
-    if (!out.empty()) std::printf("wrote    %s\n", out.c_str());
-    if (recorder && !log_is_complete(recorder->counts(), out.empty() ? "the model" : "the model written to " + out)) {
-      return kExitDamage;
+    if (model_error.empty() && !out.empty()) std::printf("wrote    %s\n", out.c_str());
+    const std::string model = !model_error.empty() ? "the session's model"
+                              : out.empty()        ? "the model"
+                                                   : "the model written to " + out;
+    const bool log_complete = recorder == nullptr || log_is_complete(recorder->counts(), model);
+    if (!model_error.empty()) {
+      std::string recovery = "no event log was kept (output.log), so the session's model is lost";
+      if (scene.output.log) {
+        recovery = std::string(log_complete ? "the session is whole in its log" : "its log kept what it could") +
+                   ": sculpt replay " + *scene.output.log + " --model " + scene.model.path + " --out " + out +
+                   " writes it";
+      }
+      std::cerr << "sculpt run: error: " << model_error << "; " << recovery << "\n";
+      return kExitFailure;
     }
-    return kExitOk;
+    return log_complete ? kExitOk : kExitDamage;
   }
 
   static void create_parent(const std::string& path) {

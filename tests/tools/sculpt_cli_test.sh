@@ -359,6 +359,20 @@ if [[ $with_lcm == ON ]]; then
   expect_json "the summary counts the failed writes" "j['recording']['log']['write_errors'] > 0"
   expect_exit 0 "replay the log the full disk cut" -- "$SCULPT" replay "$work/sphere-press.lcmlog" --model "$repo/data/sphere_3203.ply" --json "$work/report.json"
   expect_json "the full disk's log reads as cut" "j['recovery']['cut'] is not None and not j['damaged']"
+  # A model the disk cannot take (the log, smaller, fits): exit 1, the summary still written,
+  # and the line gives the replay that writes the model from the log, which works.
+  rm -f "$work/full.ply"
+  (trap '' XFSZ; ulimit -f 60; exec "$SCULPT" run "$press_scene" --duration 1 --quiet --replace-log \
+    --out "$work/full.ply" --json "$work/report.json") >"$work/out" 2>"$work/err"
+  got=$?
+  hint=$(sed -n 's/.*the session is whole in its log: \(sculpt replay .*\) writes it$/\1/p' "$work/err")
+  if [[ $got -eq 1 && -n $hint && ! -e $work/full.ply ]] && grep -q "^sculpt run: error: $work/full.ply: cannot write" "$work/err"; then
+    ok "a model the disk cannot take: exit 1, naming it and the replay that writes it"
+  else
+    bad "model not written (exit $got): $(head -c 400 "$work/err")"
+  fi
+  expect_json "the summary is written, saying the model is not" "j['model_written'] is False and j['recording']['log']['write_errors'] == 0"
+  if [[ -n $hint ]] && "$SCULPT" ${hint#sculpt } >/dev/null 2>&1 && [[ -s $work/full.ply ]]; then ok "the replay it gives writes the model"; else bad "the replay it gives failed: $hint"; fi
   # The scene started twice at once: the second session is refused even with --replace-log,
   # before it truncates the log the first is writing, and the first's log stays whole (base
   # model + log = its sculpted model).
