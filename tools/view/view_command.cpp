@@ -277,7 +277,7 @@ class ViewCommand final : public Command {
       const logging::CollisionRecord& first = log.collisions[f.first];
       const std::size_t events = f.second - f.first;
       if (events == static_cast<std::size_t>(first.frame_size)) return false;
-      status_line("frame " + std::to_string(first.frame_id) + " incomplete (" + std::to_string(events) + " of " +
+      status_line("incomplete frame " + std::to_string(first.frame_id) + " (" + std::to_string(events) + " of " +
                   std::to_string(first.frame_size) + " events): not played");
       return true;
     });
