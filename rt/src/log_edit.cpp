@@ -3,24 +3,14 @@
 #include <map>
 #include <utility>
 
+#include "sculpt/logging/frame_runs.hpp"
+
 namespace sculpt::rt {
 namespace {
 
 using logging::CollisionRecord;
-
-// End of the run of consecutive events sharing events[begin]'s frame id.
-std::size_t run_end(std::span<const CollisionRecord> events, std::size_t begin) noexcept {
-  std::size_t end = begin + 1;
-  while (end < events.size() && events[end].frame_id == events[begin].frame_id) ++end;
-  return end;
-}
-
-bool whole(std::span<const CollisionRecord> run) noexcept {
-  for (const CollisionRecord& r : run) {
-    if (r.frame_size != run.size()) return false;
-  }
-  return true;
-}
+using logging::frame_run_end;
+using logging::whole_frame;
 
 bool stroke_event(const CollisionRecord& r, const Stroke& s) noexcept {
   return r.hand == s.hand && r.finger == s.finger && r.frame_id >= s.first_frame && r.frame_id <= s.last_frame;
@@ -32,9 +22,9 @@ WholeFrames whole_frames(std::span<const CollisionRecord> events) noexcept {
   WholeFrames w;
   std::size_t begin = 0;
   while (begin < events.size()) {
-    const std::size_t end = run_end(events, begin);
+    const std::size_t end = frame_run_end(events, begin);
     const auto run = events.subspan(begin, end - begin);
-    if (!whole(run)) {
+    if (!whole_frame(run)) {
       // Only a final frame short of events is what a cut leaves; a frame with too many events,
       // or one followed by others, is damage.
       w.cut_at_end = end == events.size() && run.size() < run.front().frame_size;
@@ -52,9 +42,9 @@ std::vector<CollisionRecord> drop_incomplete_frames(std::span<const CollisionRec
   std::vector<CollisionRecord> out;
   out.reserve(events.size());
   for (std::size_t begin = 0; begin < events.size();) {
-    const std::size_t end = run_end(events, begin);
+    const std::size_t end = frame_run_end(events, begin);
     const auto run = events.subspan(begin, end - begin);
-    if (whole(run)) out.insert(out.end(), run.begin(), run.end());
+    if (whole_frame(run)) out.insert(out.end(), run.begin(), run.end());
     begin = end;
   }
   return out;
@@ -96,7 +86,7 @@ std::vector<CollisionRecord> drop_stroke(std::span<const CollisionRecord> events
   std::vector<CollisionRecord> out;
   out.reserve(events.size());
   for (std::size_t begin = 0; begin < events.size();) {
-    const std::size_t end = run_end(events, begin);
+    const std::size_t end = frame_run_end(events, begin);
     std::size_t dropped = 0;
     for (std::size_t k = begin; k < end; ++k) dropped += stroke_event(events[k], stroke) ? 1 : 0;
     for (std::size_t k = begin; k < end; ++k) {

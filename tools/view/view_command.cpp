@@ -15,9 +15,11 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -32,6 +34,7 @@
 #include "playback.hpp"
 #include "sculpt/base/clock.hpp"
 #include "sculpt/deform/model_io.hpp"
+#include "sculpt/logging/frame_runs.hpp"
 #include "sculpt/render/camera.hpp"
 #include "sculpt/render/png_file.hpp"
 #include "sculpt/render/render_model.hpp"
@@ -265,22 +268,18 @@ class ViewCommand final : public Command {
       status_line(log_path_ + ": " + std::to_string(log.damaged) +
                   " damaged or cut places skipped (sculpt replay names each by its byte offset)");
     }
-    std::vector<std::pair<std::size_t, std::size_t>> frames;  // [begin, end) of each frame's events
-    for (std::size_t i = 0; i < log.collisions.size(); ++i) {
-      if (i == 0 || log.collisions[i].frame_id != log.collisions[i - 1].frame_id) {
-        frames.emplace_back(i, i + 1);
+    const std::span<const logging::CollisionRecord> events(log.collisions);
+    std::vector<std::pair<std::size_t, std::size_t>> frames;  // [begin, end) of each whole frame's events
+    for (std::size_t begin = 0; begin < events.size();) {
+      const std::size_t end = logging::frame_run_end(events, begin);
+      if (logging::whole_frame(events.subspan(begin, end - begin))) {
+        frames.emplace_back(begin, end);
       } else {
-        frames.back().second = i + 1;
+        status_line("incomplete frame " + std::to_string(events[begin].frame_id) + " (" + std::to_string(end - begin) +
+                    " of " + std::to_string(events[begin].frame_size) + " events): not played");
       }
+      begin = end;
     }
-    std::erase_if(frames, [&](const std::pair<std::size_t, std::size_t>& f) {
-      const logging::CollisionRecord& first = log.collisions[f.first];
-      const std::size_t events = f.second - f.first;
-      if (events == static_cast<std::size_t>(first.frame_size)) return false;
-      status_line("incomplete frame " + std::to_string(first.frame_id) + " (" + std::to_string(events) + " of " +
-                  std::to_string(first.frame_size) + " events): not played");
-      return true;
-    });
     std::vector<double> times;
     for (const auto& f : frames) times.push_back(log.collisions[f.first].time_s);
     view::Playback playback(std::move(times), paused_);
