@@ -111,7 +111,8 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale,
     ++session.skipped;
   };
   const render::Vec3 centre = model.bounding_box_centre();
-  const double range = deform::GuardSettings{}.probe_range * std::max(model.bounding_box_diagonal(), 1e-30);
+  const double diagonals = deform::GuardSettings{}.probe_range;  // the station's own bound on a probe
+  const double range = diagonals * std::max(model.bounding_box_diagonal(), 1e-30);
   const auto near_model = [&](const render::Vec3& p) { return deform::is_finite(p) && norm(p - centre) <= range; };
   std::size_t far = 0;
   std::uint64_t first_far = 0;
@@ -173,8 +174,7 @@ SessionOverlay read_session_overlay(const std::string& path, double arrow_scale,
     std::fprintf(stderr,
                  "skipped  %s: %zu events hold a position beyond %.4g model units of the model's centre (%g "
                  "diagonals, the station's probe range), the first at byte offset %llu: not drawn\n",
-                 path.c_str(), far, range, deform::GuardSettings{}.probe_range,
-                 static_cast<unsigned long long>(first_far));
+                 path.c_str(), far, range, diagonals, static_cast<unsigned long long>(first_far));
     session.skipped += far;
   }
   for (auto& [finger, line] : paths) session.overlay.paths.push_back(std::move(line));

@@ -298,7 +298,7 @@ class ReplayCommand final : public Command {
   }
 
   int list_strokes(const SessionLog& log) {
-    const std::vector<logging::CollisionRecord> events = recover(log, nullptr);
+    const std::vector<logging::CollisionRecord> events = recover(log, nullptr).events;
     nlohmann::json strokes = nlohmann::json::array();
     for (const rt::Stroke& s : rt::list_strokes(events)) {
       std::printf("stroke %-4zu %-5s %-6s  frames %lld-%lld  %zu events\n", s.number, hand_name(s.hand),
@@ -320,11 +320,21 @@ class ReplayCommand final : public Command {
     return kExitOk;
   }
 
+  // What recovery decided about a log, for the decisions that follow (the JSON says the same
+  // for its reader, with offsets and words).
+  struct Recovery {
+    std::vector<logging::CollisionRecord> events;  // the frames to apply
+    bool stopped_at_damage = false;                // the events end before damage
+    bool past_damage = false;                      // --skip-damage went on past damage
+    bool cut = false;                              // the log ends in a crash's cut
+    bool damaged() const noexcept { return stopped_at_damage || past_damage; }
+  };
+
   // The events a crash or damage left whole: every complete frame up to a cut at the end (the
   // normal case after SIGKILL or a power cut), up to the last complete frame before damage
   // inside the log, or, with --skip-damage, every complete frame anywhere. Says what it left
   // out, with byte offsets, in `json` (when given) and on stderr.
-  std::vector<logging::CollisionRecord> recover(const SessionLog& log, nlohmann::json* json) const {
+  Recovery recover(const SessionLog& log, nlohmann::json* json) const {
     const std::span<const logging::CollisionRecord> all(log.collisions);
     std::span<const logging::CollisionRecord> events = all;
     std::optional<Damage> stop;  // damage inside the log, where replay stops
@@ -350,9 +360,11 @@ class ReplayCommand final : public Command {
                              {"stopped_at_damage", nullptr},
                              { "past_damage",
                                false }};
-    std::vector<logging::CollisionRecord> kept;
+    Recovery r;
+    std::vector<logging::CollisionRecord>& kept = r.events;
     if (stop && skip_damage_) {
       kept = rt::drop_incomplete_frames(all);
+      r.past_damage = true;
       report["past_damage"] = true;
       std::fprintf(stderr,
                    "damage   %s\n         passed over (--skip-damage): the result is a model no session produced\n",
@@ -360,6 +372,7 @@ class ReplayCommand final : public Command {
     } else {
       kept.assign(events.begin(), events.begin() + static_cast<std::ptrdiff_t>(whole.events));
       if (stop) {
+        r.stopped_at_damage = true;
         report["stopped_at_damage"] = {{"offset", stop->offset}, { "what", stop->what }};
         std::fprintf(stderr,
                      "damage   %s\n         replay stops at the last complete frame before it "
@@ -371,6 +384,7 @@ class ReplayCommand final : public Command {
         // The cut is where the last partial event begins, or the end of the file when the log
         // ends between two events of a frame.
         const std::uint64_t at = tail ? tail->offset : log.size;
+        r.cut = true;
         nlohmann::json incomplete = nullptr;
         if (whole.cut_at_end) {
           incomplete = {{"frame", events[whole.events].frame_id},
@@ -387,14 +401,15 @@ class ReplayCommand final : public Command {
     }
     report["last_frame"] = kept.empty() ? nlohmann::json(nullptr) : nlohmann::json(kept.back().frame_id);
     if (json) (*json)["recovery"] = report;
-    return kept;
+    return r;
   }
 
   // A logged frame the transfer cannot apply (its material out of range, or forces that would
   // put inf or NaN in the model: values no session logs, so damage the reader could not see) is
   // damage at its first event, as the reader's own: replay stops at the last frame before it,
   // or with --skip-damage passes over it. Returns whether to go on.
-  bool pass_over_rejected_frame(const rt::FrameRejected& e, const SessionLog& log, nlohmann::json& json) const {
+  bool pass_over_rejected_frame(const rt::FrameRejected& e, const SessionLog& log, Recovery& recovered,
+                                nlohmann::json& json) const {
     const auto first = std::find_if(log.collisions.begin(), log.collisions.end(),
                                     [&](const logging::CollisionRecord& r) { return r.frame_id == e.frame_id(); });
     const std::uint64_t at = first == log.collisions.end()
@@ -406,12 +421,14 @@ class ReplayCommand final : public Command {
     recovery["damage"].push_back({{"offset", at}, { "what", what }});
     json["skipped"].push_back(what);
     if (skip_damage_) {
+      recovered.past_damage = true;
       recovery["past_damage"] = true;
       std::fprintf(stderr,
                    "damage   %s\n         passed over (--skip-damage): the result is a model no session produced\n",
                    what.c_str());
       return true;
     }
+    recovered.stopped_at_damage = true;
     recovery["stopped_at_damage"] = {{"offset", at}, { "what", what }};
     std::fprintf(stderr,
                  "damage   %s\n         replay stops at the last complete frame before it (--skip-damage goes on "
@@ -488,8 +505,9 @@ class ReplayCommand final : public Command {
                              log.skipped_bytes }};
     stamp_summary(json);
     check_model(log, base, json);
-    std::vector<logging::CollisionRecord> events = recover(log, &json);
-    bool produced_by_session = !json["recovery"]["past_damage"].get<bool>();
+    Recovery recovered = recover(log, &json);
+    std::vector<logging::CollisionRecord>& events = recovered.events;
+    bool produced_by_session = !recovered.past_damage;
     std::vector<std::string> skipped;
     for (const Damage& d : log.damage) skipped.push_back(d.what);
     json["skipped"] = skipped;
@@ -515,6 +533,7 @@ class ReplayCommand final : public Command {
     }
     json["produced_by_a_session"] = produced_by_session;
     std::optional<deform::PointModel> transferred, rerun;
+    std::optional<std::int64_t> transfer_last_frame;  // none: the transfer applied no frame
     if (mode_ != "rerun") {
       transferred = base;
       ProgressLine progress("transfer");
@@ -522,10 +541,11 @@ class ReplayCommand final : public Command {
           *transferred, events, [&](std::size_t d, std::size_t t) { progress.show(d, t); }, {},
           [&](const rt::FrameRejected& e) {
             progress.end();
-            return pass_over_rejected_frame(e, log, json);
+            return pass_over_rejected_frame(e, log, recovered, json);
           });
       progress.end();
       if (stats.rejected > 0 && !stats.stopped) json["produced_by_a_session"] = false;
+      transfer_last_frame = stats.last_frame;
       const nlohmann::json last = stats.last_frame ? nlohmann::json(*stats.last_frame) : nlohmann::json(nullptr);
       if (stats.stopped) json["recovery"]["last_frame"] = last;
       json["transfer"] = {{"frames", stats.frames}, {"events", stats.events}, {"rejected_frames", stats.rejected}, {
@@ -540,11 +560,7 @@ class ReplayCommand final : public Command {
       // incomplete) is compared with a re-run of the same frames: the glove samples go on past
       // that frame, and a re-run of them all would compare two different sessions.
       std::optional<std::int64_t> until;
-      const nlohmann::json& recovery = json["recovery"];
-      if (transferred && (!recovery["stopped_at_damage"].is_null() || !recovery["cut"].is_null())) {
-        const nlohmann::json& last = json["transfer"]["last_frame"];
-        until = last.is_null() ? std::int64_t{-1} : last.get<std::int64_t>();
-      }
+      if (transferred && (recovered.stopped_at_damage || recovered.cut)) until = transfer_last_frame.value_or(-1);
       rerun = rerun_session(log, json, until);
     }
     if (transferred && rerun) {
@@ -570,8 +586,7 @@ class ReplayCommand final : public Command {
     // Damage is what --strict turns into a status: the reader's inside the log (stopped at or
     // passed over) and frames the transfer could not apply. A cut at the end is a crash's
     // normal trace, and its every complete frame applies.
-    const nlohmann::json& recovery = json["recovery"];
-    const bool damaged = !recovery["stopped_at_damage"].is_null() || recovery["past_damage"].get<bool>();
+    const bool damaged = recovered.damaged();
     json["damaged"] = damaged;
     json["time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!json_path_.empty()) write_json(json_path_, json);

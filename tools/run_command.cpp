@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -207,7 +208,9 @@ class RunCommand final : public Command {
     nlohmann::json summary = make_summary(*station, loop);
     summary["model_written"] = out.empty() ? nlohmann::json(nullptr) : nlohmann::json(model_error.empty());
     stamp_summary(summary);
-    if (recorder) summary["recording"] = recording_json(recorder->counts());
+    const std::optional<rt::RecordingCounts> recorded =
+        recorder ? std::optional<rt::RecordingCounts>(recorder->counts()) : std::nullopt;
+    if (recorded) summary["recording"] = recording_json(*recorded);
     summary["normals_checked"] = {{"zero_or_nonfinite", normals.zero_or_nonfinite},
                                   {"renormalised", normals.renormalised}};
     const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
@@ -243,7 +246,7 @@ class RunCommand final : public Command {
     const std::string model = !model_error.empty() ? "the session's model"
                               : out.empty()        ? "the model"
                                                    : "the model written to " + out;
-    const bool log_complete = recorder == nullptr || log_is_complete(recorder->counts(), model);
+    const bool log_complete = !recorded || log_is_complete(*recorded, model);
     if (!model_error.empty()) {
       std::string recovery = "no event log was kept (output.log), so the session's model is lost";
       if (scene.output.log) {
