@@ -227,9 +227,13 @@ class RunCommand final : public Command {
         loop.stats().tick_time.quantile(0.99) * 1e-3, loop.stats().tick_time.quantile(0.999) * 1e-3,
         static_cast<double>(loop.stats().tick_time.max()) * 1e-3, loop.stats().tick_cpu_time.quantile(0.999) * 1e-3,
         static_cast<double>(loop.stats().tick_cpu_time.max()) * 1e-3);
-    std::printf("         %llu glove samples, %llu collision frames, %llu collisions\n",
-                static_cast<unsigned long long>(t.samples), static_cast<unsigned long long>(t.frames),
-                static_cast<unsigned long long>(t.collisions));
+    // A frame runs whenever a fingertip moved, touching or not: "frames" alone read as frames
+    // with a collision ("24 collision frames, 9 collisions").
+    std::printf(
+        "         %llu glove samples, %llu frames (a fingertip moved), %llu of them with a collision, %llu "
+        "collisions\n",
+        static_cast<unsigned long long>(t.samples), static_cast<unsigned long long>(t.frames),
+        static_cast<unsigned long long>(t.collision_frame_time.count()), static_cast<unsigned long long>(t.collisions));
     if (t.out_of_range > 0) {  // a glove sending inf or 1e30 otherwise shows only as no collisions
       std::printf(
           "dropped  %llu glove samples or fingertips holding an inf or NaN or lying far outside the model "

@@ -328,6 +328,14 @@ expect_exit 0 "run sphere-press" -- "$SCULPT" run "$press_scene" --duration 1.5 
 expect_json "run ticked and reported" "j['ticks'] > 500 and 'tick_time' in j and j['tick_cpu_time']['max_us'] <= j['tick_time']['max_us'] + 50 and 'faults' in j and j['rate_hz'] == 1000"
 # The press collides: every frame with a collision is timed, and its deformation is part of a tick.
 expect_json "run timed its collision frames" "0 < j['collision_frame_time']['count'] <= j['frames'] and j['collision_frame_time']['count'] <= j['collisions'] and 0 < j['collision_frame_time']['max_us'] <= j['tick_time']['max_us']"
+# The result line tells the frames that ran (a fingertip moved) from those that collided.
+if python3 - "$work/out" "$work/report.json" <<'PY'
+import json, re, sys
+j = json.load(open(sys.argv[2]))
+m = re.search(r"(\d+) glove samples, (\d+) frames \(a fingertip moved\), (\d+) of them with a collision, (\d+) collisions", open(sys.argv[1]).read())
+sys.exit(0 if m and [int(g) for g in m.groups()[1:]] == [j['frames'], j['collision_frame_time']['count'], j['collisions']] else 1)
+PY
+then ok "run's result line counts frames and those with a collision"; else bad "run's result line: $(grep 'glove samples' "$work/out")"; fi
 # The log is the session's edit history: a second run of the scene refuses to erase it (exit 2,
 # before any work, the log untouched) unless --replace-log says it may go.
 if [[ $with_lcm == ON ]]; then
