@@ -76,7 +76,10 @@ class GloveSimCommand final : public Command {
     auto* serial = sub_->add_option("--serial", serial_, "Serial device to write the wire protocol to");
     auto* lcm = sub_->add_option("--lcm", lcm_url_, "LCM URL to publish glove samples on")->check(lcm_url_check());
     // A channel given with --serial would be ignored: refused instead.
-    sub_->add_option("--channel", channel_, "LCM channel (with --lcm)")->default_val("SCULPT_GLOVE")->needs(lcm);
+    sub_->add_option("--channel", channel_, "LCM channel (with --lcm)")
+        ->default_val("SCULPT_GLOVE")
+        ->check(lcm_channel_check())
+        ->needs(lcm);
     serial->excludes(lcm);
     sub_->add_option("--duration", duration_s_, "Stop after this many seconds")
         ->check(positive_up_to(base::kMaxDurationS, "seconds: at most a year"));

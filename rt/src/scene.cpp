@@ -350,7 +350,7 @@ void read_lcm_transport(const Section& s, const std::string& default_url, std::s
   url = s.string("url").value_or(default_url);
   if (const std::string problem = lcm_url_problem(url); !problem.empty()) s.fail("url", problem);
   if (const auto c = s.string("channel")) {
-    s.check(!c->empty(), "channel", "must not be empty");
+    if (const std::string problem = lcm_channel_problem(*c); !problem.empty()) s.fail("channel", problem);
     channel = *c;
   }
 }

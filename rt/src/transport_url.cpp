@@ -88,4 +88,14 @@ std::string lcm_url_problem(std::string_view url) {
   return problem.empty() ? "" : quoted + "is not a usable LCM URL: " + problem;
 }
 
+std::string lcm_channel_problem(std::string_view channel) {
+  if (channel.empty()) return "must not be empty";
+  if (channel.find('\0') != std::string_view::npos) return "holds a NUL byte";
+  if (channel.size() > kMaxLcmChannelLength) {
+    return "is " + std::to_string(channel.size()) + " bytes long; LCM takes at most " +
+           std::to_string(kMaxLcmChannelLength);
+  }
+  return {};
+}
+
 }  // namespace sculpt::rt

@@ -790,6 +790,14 @@ keyframes = [[0, 0, 0, 1]]
        "ttl 'x' is not in 0..255"},
       {"glove lcm url", "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"lcm\"\n[glove.lcm]\nurl = \"file://\"\n",
        "glove.lcm.url", 6, "'file://' is not a usable LCM URL: names no file"},
+      // A channel LCM cannot take passed too: every publish printed LCM's complaint and
+      // delivered nothing, and a subscriber waited for samples that never came.
+      {"glove lcm channel, too long",
+       "[model]\npath = \"m.ply\"\n[glove]\nbackend = \"lcm\"\n[glove.lcm]\nchannel = \"" + std::string(64, 'G') +
+           "\"\n",
+       "glove.lcm.channel", 6, "is 64 bytes long; LCM takes at most 63"},
+      {"haptic lcm channel, empty", kMinimal + "[haptic]\nsink = \"lcm\"\n[haptic.lcm]\nchannel = \"\"\n",
+       "haptic.lcm.channel", 11, "must not be empty"},
   };
 }
 

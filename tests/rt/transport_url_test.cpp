@@ -39,5 +39,13 @@ TEST(LcmUrl, EachRefusalSaysWhatIsWrong) {
   }
 }
 
+TEST(LcmChannel, LcmsLimitsAreNamed) {
+  EXPECT_EQ(lcm_channel_problem("SCULPT_GLOVE"), "");
+  EXPECT_EQ(lcm_channel_problem(std::string(63, 'C')), "");  // LCM_MAX_CHANNEL_NAME_LENGTH
+  EXPECT_EQ(lcm_channel_problem(std::string(64, 'C')), "is 64 bytes long; LCM takes at most 63");
+  EXPECT_EQ(lcm_channel_problem(""), "must not be empty");
+  EXPECT_EQ(lcm_channel_problem(std::string("GLOVE\0B", 7)), "holds a NUL byte");
+}
+
 }  // namespace
 }  // namespace sculpt::rt

@@ -473,6 +473,13 @@ for duration in nan 1e308 inf -1 0; do
 done
 expect_exit 2 "glove-sim --duration nan refused" -- timeout 20 "$SCULPT" glove-sim "$scenes/sphere-press.toml" --lcm udpm://239.255.76.67:7667?ttl=0 --duration nan
 one_line_error "glove-sim --duration nan named" "--duration: must be a finite number"
+# A channel LCM cannot take: LCM printed its complaint at each publish, delivered nothing, and
+# glove-sim ended with exit 0 (an empty name "sent" every sample where no one listens).
+long_channel=$(printf 'C%.0s' {1..64})
+expect_exit 2 "glove-sim --channel of 64 bytes refused" -- timeout 20 "$SCULPT" glove-sim "$scenes/sphere-press.toml" --lcm udpm://239.255.76.67:7667?ttl=0 --channel "$long_channel" --duration 0.2
+one_line_error "glove-sim --channel's length named" "--channel: is 64 bytes long; LCM takes at most 63"
+expect_exit 2 "glove-sim --channel '' refused" -- timeout 20 "$SCULPT" glove-sim "$scenes/sphere-press.toml" --lcm udpm://239.255.76.67:7667?ttl=0 --channel "" --duration 0.2
+one_line_error "glove-sim --channel '' named" "--channel: must not be empty"
 expect_exit 2 "render --elevation out of range" -- "$SCULPT" render "$sphere" --out "$work/x.png" --elevation 100
 one_line_error "render range printed with %g" "--elevation: must be a finite number in \[-90, 90\] (degrees), got 100"
 expect_exit 2 "generate --radius nan refused" -- "$SCULPT" generate sphere --radius nan --out "$work/nan.ply"
