@@ -32,12 +32,20 @@ EventLogReader::EventLogReader(const std::string& path, std::uint64_t start) : p
   file_ = std::fopen(path.c_str(), "rb");
   if (file_ == nullptr) throw LogFileError(path + ": cannot open: " + std::strerror(errno));
   struct stat info {};
-  if (::fstat(::fileno(file_), &info) != 0 || !S_ISREG(info.st_mode)) {
-    const int saved = errno;
+  // errno says why only when fstat failed: a folder opens and stats fine, and the errno left
+  // from earlier calls ("No such file or directory") would name the wrong cause.
+  std::string problem;
+  if (::fstat(::fileno(file_), &info) != 0) {
+    problem = std::string("cannot read its size: ") + std::strerror(errno);
+  } else if (S_ISDIR(info.st_mode)) {
+    problem = "a folder, not a log file";
+  } else if (!S_ISREG(info.st_mode)) {
+    problem = "not a regular file (a device, pipe or socket), so not a log file";
+  }
+  if (!problem.empty()) {
     std::fclose(file_);
     file_ = nullptr;
-    throw LogFileError(path + ": not a readable regular file" +
-                       (saved != 0 ? std::string(": ") + std::strerror(saved) : std::string()));
+    throw LogFileError(path + ": " + problem);
   }
   size_ = static_cast<std::uint64_t>(info.st_size);
   if (start > size_) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -125,7 +126,24 @@ TEST(EventLogReader, MissingFileThrowsNamingThePath) {
   } catch (const LogFileError& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
-  EXPECT_THROW(EventLogReader(std::filesystem::temp_directory_path().string()), LogFileError);
+}
+
+// A folder and a device open and stat without an error, so errno held whatever an earlier call
+// left: `sculpt report /tmp` said "not a readable regular file: No such file or directory".
+TEST(EventLogReader, AFolderOrADeviceIsNamedForWhatItIs) {
+  const auto message = [](const std::string& path) {
+    try {
+      EventLogReader reader(path);
+    } catch (const LogFileError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no throw");
+  };
+  errno = ENOENT;  // as a failed lookup before the call would leave it
+  const std::string folder = std::filesystem::temp_directory_path().string();
+  EXPECT_EQ(message(folder), folder + ": a folder, not a log file");
+  errno = ENOENT;
+  EXPECT_EQ(message("/dev/null"), "/dev/null: not a regular file (a device, pipe or socket), so not a log file");
 }
 
 TEST(EventLogReader, EmptyFileIsTheEnd) {
