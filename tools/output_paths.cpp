@@ -122,6 +122,11 @@ std::string lower_extension(const std::string& path) {
   return extension;
 }
 
+void create_parent_folders(const std::string& path) {
+  const fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty()) fs::create_directories(parent);
+}
+
 void refuse_unwritable_model_format(const std::string& option, const std::string& path) {
   try {
     deform::check_model_format(path);

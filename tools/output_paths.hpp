@@ -47,6 +47,11 @@ void refuse_unwritable_model_format(const std::string& option, const std::string
 /// option that says the old session may go. A missing or empty file passes.
 void refuse_overwriting_log(const NamedPath& log, const std::string& replace_flag);
 
+/// Makes the folders on `path`'s way that are still missing, as an output checked by
+/// refuse_unwritable_output is about to be written. A path without a folder needs none.
+/// @throw std::filesystem::filesystem_error when one cannot be made.
+void create_parent_folders(const std::string& path);
+
 /// The path's extension in lower case, with its dot (".ply"); empty when it has none.
 std::string lower_extension(const std::string& path);
 

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <optional>
@@ -578,8 +577,7 @@ class ReplayCommand final : public Command {
     }
     const deform::PointModel& result = transferred ? *transferred : *rerun;
     if (!out_path_.empty()) {
-      const auto parent = std::filesystem::path(out_path_).parent_path();
-      if (!parent.empty()) std::filesystem::create_directories(parent);
+      create_parent_folders(out_path_);
       deform::write_model(out_path_, result);
       std::printf("wrote    %s\n", out_path_.c_str());
     }

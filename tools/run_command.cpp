@@ -7,7 +7,6 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
-#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -199,7 +198,7 @@ class RunCommand final : public Command {
     std::string model_error;
     if (!out.empty()) {
       try {
-        create_parent(out);
+        create_parent_folders(out);
         deform::write_model(out, setup.model);
       } catch (const std::exception& e) {
         model_error = e.what();
@@ -215,7 +214,7 @@ class RunCommand final : public Command {
                                   {"renormalised", normals.renormalised}};
     const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
     if (!json.empty()) {
-      if (json != "-") create_parent(json);
+      if (json != "-") create_parent_folders(json);
       write_json(json, summary);
     }
     const rt::StationTotals& t = station->totals();
@@ -262,11 +261,6 @@ class RunCommand final : public Command {
       return kExitFailure;
     }
     return log_complete ? kExitOk : kExitDamage;
-  }
-
-  static void create_parent(const std::string& path) {
-    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
   }
 
   static nlohmann::json recording_json(const rt::RecordingCounts& c) {

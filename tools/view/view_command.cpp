@@ -31,6 +31,7 @@
 #include "lcm_receiver.hpp"
 #include "number_check.hpp"
 #include "orbit_view.hpp"
+#include "output_paths.hpp"
 #include "playback.hpp"
 #include "sculpt/base/clock.hpp"
 #include "sculpt/deform/model_io.hpp"
@@ -120,6 +121,20 @@ class ViewCommand final : public Command {
     }
     try {
       const rt::Scene scene = rt::load_scene(scene_path_);
+      // The picture and the model are written when the window closes, maybe after an hour's
+      // session: a wrong extension or folder is refused now, and neither may replace an input
+      // (the base model is half of the edit history, the log the other).
+      if (!screenshot_path_.empty() && lower_extension(screenshot_path_) != ".png") {
+        throw std::invalid_argument("--screenshot " + screenshot_path_ +
+                                    ": the picture is written as PNG; name it .png");
+      }
+      if (!dump_path_.empty()) refuse_unwritable_model_format("--dump-model", dump_path_);
+      const std::vector<NamedPath> outputs = {{"--screenshot", screenshot_path_}, {"--dump-model", dump_path_}};
+      const std::vector<NamedPath> inputs = {{"the scene", scene_path_},
+                                             {"the scene's model", scene.model.path},
+                                             {"--log", log_path_},
+                                             {"--catch-up", catch_up_path_}};
+      check_outputs(outputs, inputs);
       if (url_.empty()) url_ = scene.lcm.url;
       setup_.emplace(rt::prepare_station(scene));
       model_ = setup_->model;
@@ -128,6 +143,9 @@ class ViewCommand final : public Command {
       transfer_.emplace(model_, options);
       std::printf("model    %s: %zu points\n", scene.model.path.c_str(), model_.size());
     } catch (const rt::SceneError& e) {
+      std::cerr << "sculpt view: error: " << e.what() << "\n";
+      return kExitUsage;
+    } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt view: error: " << e.what() << "\n";
       return kExitUsage;
     } catch (const std::exception& e) {
@@ -393,8 +411,14 @@ class ViewCommand final : public Command {
     draw(last_text_);
     // The X server draws asynchronously: let it take the last picture before it is read back.
     window_->poll();
-    if (!screenshot_path_.empty()) render::write_png(screenshot_path_, window_->capture());
-    if (!dump_path_.empty()) deform::write_model(dump_path_, model_);
+    if (!screenshot_path_.empty()) {
+      create_parent_folders(screenshot_path_);
+      render::write_png(screenshot_path_, window_->capture());
+    }
+    if (!dump_path_.empty()) {
+      create_parent_folders(dump_path_);
+      deform::write_model(dump_path_, model_);
+    }
   }
 
   CLI::App* sub_ = nullptr;
