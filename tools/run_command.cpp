@@ -101,9 +101,12 @@ class RunCommand final : public Command {
       const std::string out = !out_path_.empty() ? out_path_ : scene.output.model.value_or("");
       const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
       const std::string log = scene.output.log.value_or("");
-      if (!out.empty()) refuse_unwritable_model_format("--out", out);
+      // Each named as the user gave it: the option, or the scene's key it came from.
+      const std::string out_name = !out_path_.empty() ? "--out" : "output.model";
+      const std::string json_name = !json_path_.empty() ? "--json" : "output.json";
+      if (!out.empty()) refuse_unwritable_model_format(out_name, out);
       const std::vector<NamedPath> inputs = {{"the scene", scene_path_}, {"the scene's base model", scene.model.path}};
-      const std::vector<NamedPath> outputs = {{"--out", out}, {"--json", json}, {"output.log", log}};
+      const std::vector<NamedPath> outputs = {{out_name, out}, {json_name, json}, {"output.log", log}};
       check_outputs(outputs, inputs);  // else found only once the session is over, its model lost
       if (!replace_log_) refuse_overwriting_log({scene_path_ + ": output.log", log}, "--replace-log");
       if (json == "-") reserve_stdout_for_json();

@@ -798,6 +798,10 @@ refused_early "run --out naming a directory" "--out $work/folder.ply is a direct
 (( $(date +%s) - start_s < 3 )) && ok "run refused the directory before the session" || bad "run ran the session before refusing --out"
 refused_early "run --json under a file" "--json $work/plain-file/j.json: $work/plain-file is not a directory" \
   "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet --replace-log --json "$work/plain-file/j.json"
+# Named by where it came from: the scene's key, not an option the user never gave.
+sed "s|^json = .*|json = \"$work/folder.ply\"|" "$work/squeeze.toml" >"$work/json-folder.toml"
+refused_early "run's output.json naming a directory" "output.json $work/folder.ply is a directory, not a file to write" \
+  "$SCULPT" run "$work/json-folder.toml" --duration 4 --quiet --replace-log
 refused_early "replay --out naming a directory" "--out $work/folder.ply is a directory" \
   "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/folder.ply"
 refused_early "deform --json under a file" "--json $work/plain-file/x/d.json: $work/plain-file is not a directory" \
