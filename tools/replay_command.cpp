@@ -527,7 +527,19 @@ class ReplayCommand final : public Command {
                   s.events);
     }
     if (until_frame_) {
+      // Frame ids are the station's, not ticks or counts: a number past the log's last frame
+      // (or before its first) is said, rather than applying everything (or nothing) silently.
+      const rt::WholeFrames all = rt::whole_frames(events);
+      const std::int64_t first = events.empty() ? -1 : events.front().frame_id;
       events = rt::until_frame(events, *until_frame_);
+      const rt::WholeFrames kept = rt::whole_frames(events);
+      if (all.frames == 0) {
+        std::printf("until    frame %lld: the log holds no frame to apply\n", static_cast<long long>(*until_frame_));
+      } else {
+        std::printf("until    frame %lld: %zu of the log's %zu frames apply (its frames are %lld to %lld)\n",
+                    static_cast<long long>(*until_frame_), kept.frames, all.frames, static_cast<long long>(first),
+                    static_cast<long long>(all.last_frame));
+      }
       json["until_frame"] = *until_frame_;
     }
     json["produced_by_a_session"] = produced_by_session;

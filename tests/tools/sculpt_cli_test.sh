@@ -868,6 +868,20 @@ for bad_number in "--until-frame -1" "--until-frame 99999999999999999999" "--unt
   eval "expect_exit 2 \"replay $bad_number refused\" -- \"\$SCULPT\" replay \"\$work/sphere-squeeze.lcmlog\" --model \"\$sphere\" $bad_number"
   one_line_error "replay $bad_number named" "${bad_number%% *}: \(must be\|expected\) a whole number"
 done
+# A frame id past the log's last frame (or before its first) applied everything (or nothing)
+# without a word: the line says how many of the log's frames apply and which ids it holds.
+for until in 0 99999999999999; do
+  expect_exit 0 "replay --until-frame $until" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --until-frame "$until" --json "$work/report.json"
+  if python3 - "$work/out" "$work/report.json" "$until" <<'PY'
+import json, re, sys
+j = json.load(open(sys.argv[2]))
+m = re.search(r"until    frame (\d+): (\d+) of the log's (\d+) frames apply \(its frames are (\d+) to (\d+)\)", open(sys.argv[1]).read())
+applied = j['transfer']['frames']
+sys.exit(0 if m and int(m.group(1)) == int(sys.argv[3]) and int(m.group(2)) == applied and int(m.group(3)) > 0
+         and (applied == 0 if sys.argv[3] == '0' else applied == int(m.group(3))) and int(m.group(4)) <= int(m.group(5)) else 1)
+PY
+  then ok "replay --until-frame $until says what applies"; else bad "replay --until-frame $until: $(grep until "$work/out")"; fi
+done
 unused "replay --list --model" "--model excludes --list" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --list --model "$sphere"
 unused "replay --list --out" "--out excludes --list" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --list --out "$work/u.ply"
 unused "replay --scene with --mode transfer" "--scene is not used by --mode transfer" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode transfer
