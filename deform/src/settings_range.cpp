@@ -60,7 +60,10 @@ void check_position_against_model(const std::string& name, const Vec3& position,
     text << " is not finite";
     refuse(text);
   }
-  const double distance = norm(position - extent.centre);
+  // std::hypot scales: a coordinate of 1e300 is 1e300 away, where the sum of squares would
+  // overflow and the message read "inf from the model's centre".
+  const Vec3 d = position - extent.centre;
+  const double distance = std::hypot(d.x, d.y, d.z);
   if (!(distance <= kMaxDiagonals * extent.diagonal)) {
     text << " is " << distance << " from the model's centre";
     append_limit(text, extent);

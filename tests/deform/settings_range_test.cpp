@@ -105,6 +105,13 @@ TEST(PositionRange, ProbesFarFromTheModelAreRefusedByName) {
               "--contact 1: (1e+20, 0, 0) is 1e+20 from the model's centre, more than 1000 bounding-box "
               "diagonals of the model (its diagonal is 13)");
   }
+  // Beyond the range of a squared double: the distance is still said as a number, not inf.
+  try {
+    check_position_against_model("--contact 2", {1e300, 0, 0}, e);
+    ADD_FAILURE() << "accepted a probe at 1e300";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("is 1e+300 from the model's centre"), std::string::npos) << error.what();
+  }
   EXPECT_THROW(check_position_against_model("p", {0, std::nan(""), 0}, e), std::invalid_argument);
 }
 
