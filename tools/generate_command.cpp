@@ -40,7 +40,8 @@ class GenerateCommand final : public Command {
     radius_option_ = sub_->add_option("--radius", radius_, "Sphere radius")
                          ->check(finite_in(0.0, true, kMaxExtent, true, "coordinates stay below 1e18"));
     per_side_option_ =
-        sub_->add_option("--per-side", per_side_, "Plane: points per side")->check(CLI::Range(2, 100000));
+        sub_->add_option("--per-side", per_side_, "Plane: points per side (at most 10,000: 1e8 points, as --points)")
+            ->check(CLI::Range(2, 10000));
     spacing_option_ = sub_->add_option("--spacing", spacing_, "Plane and box: point spacing")
                           ->check(finite_in(0.0, true, kMaxExtent, true, "coordinates stay below 1e18"));
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -20,7 +21,13 @@ void require_positive(double value, const char* what) {
 
 void require_reasonable_count(double count) {
   if (count > kMaxGeneratedPoints) {
-    throw std::invalid_argument("generator: " + std::to_string(count) + " points requested; check the spacing");
+    // %g: std::to_string printed "10000000000.000000 points".
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "generator: %g points requested, more than the %g a generator makes (a spacing or a count "
+                  "mistyped?)",
+                  count, kMaxGeneratedPoints);
+    throw std::invalid_argument(text);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -161,6 +162,18 @@ TEST(Generators, BoxSpacingIsFittedToTheEdges) {
   EXPECT_EQ(m.size(), 4u * 4u * 2u);
   EXPECT_THROW(make_box({1.0, 0.0, 1.0}, 0.1), std::invalid_argument);
   EXPECT_THROW(make_box({1.0, 1.0, 1.0}, 0.0), std::invalid_argument);
+}
+
+TEST(Generators, ACountPastTheBudgetIsRefusedInPlainNumbers) {
+  try {
+    make_plane_patch(100000, 1.0);  // 1e10 points
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "generator: 1e+10 points requested, more than the 1e+09 a generator makes (a spacing or a count "
+              "mistyped?)");
+  }
+  EXPECT_THROW(make_box({1.0, 1.0, 1.0}, 1e-4), std::invalid_argument);
 }
 
 }  // namespace

@@ -538,6 +538,10 @@ unused "generate sphere --spacing" "--spacing is not used by sphere (it takes --
 unused "generate box --radius" "--radius is not used by box (it takes --points or --spacing)" -- "$SCULPT" generate box --radius 2 --out "$work/u.ply"
 unused "generate plane --points" "--points is not used by plane (it takes --per-side and --spacing)" -- "$SCULPT" generate plane --points 100 --out "$work/u.ply"
 unused "generate sphere --per-side" "--per-side is not used by sphere" -- "$SCULPT" generate sphere --per-side 5 --out "$work/u.ply"
+# 100,000 per side passed the option's range and failed in the generator with
+# "10000000000.000000 points requested; check the spacing" (a plane has no spacing to blame).
+expect_exit 2 "generate plane --per-side 10001 refused" -- "$SCULPT" generate plane --per-side 10001 --out "$work/u.ply"
+one_line_error "generate plane --per-side names its range" "--per-side: Value 10001 not in range 2 to 10000"
 unused "generate box --points with --spacing" "--points and --spacing both set the box's grid: give one" -- "$SCULPT" generate box --points 100 --spacing 0.1 --out "$work/u.ply"
 unused "render --arrow-scale without --log" "--arrow-scale requires --log" -- "$SCULPT" render "$sphere" --out "$work/u.png" --arrow-scale 3
 unused "render --azimuth with --view" "--azimuth excludes --view" -- "$SCULPT" render "$sphere" --out "$work/u.png" --view 1,0,0 --azimuth 40
