@@ -121,20 +121,12 @@ class ViewCommand final : public Command {
     }
     try {
       const rt::Scene scene = rt::load_scene(scene_path_);
-      // The picture and the model are written when the window closes, maybe after an hour's
-      // session: a wrong extension or folder is refused now, and neither may replace an input
-      // (the base model is half of the edit history, the log the other).
-      if (!screenshot_path_.empty() && lower_extension(screenshot_path_) != ".png") {
-        throw std::invalid_argument("--screenshot " + screenshot_path_ +
-                                    ": the picture is written as PNG; name it .png");
+      try {
+        check_outputs_before_the_window(scene);
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "sculpt view: error: " << e.what() << "\n";
+        return kExitUsage;
       }
-      if (!dump_path_.empty()) refuse_unwritable_model_format("--dump-model", dump_path_);
-      const std::vector<NamedPath> outputs = {{"--screenshot", screenshot_path_}, {"--dump-model", dump_path_}};
-      const std::vector<NamedPath> inputs = {{"the scene", scene_path_},
-                                             {"the scene's model", scene.model.path},
-                                             {"--log", log_path_},
-                                             {"--catch-up", catch_up_path_}};
-      check_outputs(outputs, inputs);
       if (url_.empty()) url_ = scene.lcm.url;
       setup_.emplace(rt::prepare_station(scene));
       model_ = setup_->model;
@@ -143,9 +135,6 @@ class ViewCommand final : public Command {
       transfer_.emplace(model_, options);
       std::printf("model    %s: %zu points\n", scene.model.path.c_str(), model_.size());
     } catch (const rt::SceneError& e) {
-      std::cerr << "sculpt view: error: " << e.what() << "\n";
-      return kExitUsage;
-    } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt view: error: " << e.what() << "\n";
       return kExitUsage;
     } catch (const std::exception& e) {
@@ -164,6 +153,23 @@ class ViewCommand final : public Command {
   }
 
  private:
+  // The picture and the model are written when the window closes, maybe after an hour's
+  // session: a wrong extension or folder is refused before it opens, and neither may replace an
+  // input (the base model is half of the edit history, the log the other).
+  // @throw std::invalid_argument naming the option and what is wrong.
+  void check_outputs_before_the_window(const rt::Scene& scene) const {
+    if (!screenshot_path_.empty() && lower_extension(screenshot_path_) != ".png") {
+      throw std::invalid_argument("--screenshot " + screenshot_path_ + ": the picture is written as PNG; name it .png");
+    }
+    if (!dump_path_.empty()) refuse_unwritable_model_format("--dump-model", dump_path_);
+    const std::vector<NamedPath> outputs = {{"--screenshot", screenshot_path_}, {"--dump-model", dump_path_}};
+    const std::vector<NamedPath> inputs = {{"the scene", scene_path_},
+                                           {"the scene's model", scene.model.path},
+                                           {"--log", log_path_},
+                                           {"--catch-up", catch_up_path_}};
+    check_outputs(outputs, inputs);
+  }
+
   void open_window() {
     height_ = width_ * 3 / 4;
     window_ = std::make_unique<view::ImageWindow>(width_, height_, "sculpt view " + scene_path_);
