@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "check/case_run.hpp"
 #include "check/check_cases.hpp"
@@ -126,6 +128,15 @@ class CheckCommand final : public Command {
       std::cerr << "sculpt check: error: " << e.what() << "\n";
       return kExitFailure;
     }
+    // Only the cases --case names run, and only they are counted: a filter that matched nothing
+    // printed "606 cases, 0 failed" and passed with exit 0.
+    const std::size_t all_cases = cases.size();
+    std::erase_if(cases, [&](const check::CaseSpec& c) { return c.name.find(filter_) == std::string::npos; });
+    if (cases.empty()) {
+      std::cerr << "sculpt check: error: --case '" << filter_ << "' matches none of the " << all_cases
+                << " case names (run without --case to see them)\n";
+      return kExitUsage;
+    }
     // The table goes to stderr when stdout carries the JSON.
     std::FILE* table = json_path_ == "-" ? stderr : stdout;
     print_header(table);
@@ -134,7 +145,6 @@ class CheckCommand final : public Command {
     std::size_t failed = 0, skipped = 0;
     double worst_single = 0.0, worst_stroke = 0.0;
     for (const check::CaseSpec& c : cases) {
-      if (c.name.find(filter_) == std::string::npos) continue;
       if (!c.skipped.empty()) {
         std::fprintf(table, "%-62s skipped: %s\n", c.name.c_str(), c.skipped.c_str());
         out_cases.push_back({{"name", c.name}, {"group", c.group}, {"skipped", c.skipped}});
@@ -160,6 +170,7 @@ class CheckCommand final : public Command {
       json doc = {{"cases", out_cases},
                   {"summary",
                    {{"quick", quick_},
+                    {"case_filter", filter_},
                     {"cases", cases.size()},
                     {"failed", failed},
                     {"skipped", skipped},

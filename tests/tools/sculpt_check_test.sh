@@ -12,7 +12,7 @@ trap 'rm -rf "$work"' EXIT
 "$SCULPT" check --quick --json "$work/check.json" >"$work/table" 2>"$work/err"
 status=$?
 cat "$work/table"
-python3 - "$work/check.json" "$status" <<'PY'
+python3 - "$work/check.json" "$status" "$work/filtered" "$SCULPT" <<'PY'
 import json, sys
 doc = json.load(open(sys.argv[1]))
 status = int(sys.argv[2])
@@ -37,6 +37,25 @@ if doc["summary"]["cases"] != len(cases):
     bad.append("summary counts %d cases, the array holds %d" % (doc["summary"]["cases"], len(cases)))
 if status != 0:
     bad.append(f"sculpt check --quick exited {status}")
+# --case runs and counts only the cases it names; one that names none is a usage error (it
+# printed the whole suite's count with nothing run, and exit 0).
+names = [c["name"] for c in cases]
+part = "previous_on_point"
+chosen = [n for n in names if part in n]
+import subprocess
+with open(sys.argv[3], "w") as out:
+    status = subprocess.run([sys.argv[4], "check", "--quick", "--case", part, "--json", sys.argv[3] + ".json"],
+                            stdout=out, stderr=subprocess.DEVNULL).returncode
+filtered = json.load(open(sys.argv[3] + ".json"))
+if status != 0 or [c["name"] for c in filtered["cases"]] != chosen or filtered["summary"]["cases"] != len(chosen) \
+        or not chosen or filtered["summary"]["case_filter"] != part:
+    bad.append(f"check --case {part}: exit {status}, {filtered['summary']['cases']} counted, "
+               f"{len(filtered['cases'])} run, {len(chosen)} named")
+none = subprocess.run([sys.argv[4], "check", "--quick", "--case", "no_such_case"], capture_output=True, text=True)
+last = none.stderr.strip().split("\n")[-1]
+if none.returncode != 2 or not last.startswith("sculpt check: error: ") or \
+        f"--case 'no_such_case' matches none of the {len(cases)} case names" not in last:
+    bad.append(f"check --case no_such_case: exit {none.returncode}, stderr {none.stderr!r}")
 for b in bad:
     print("FAIL", b)
 print(f"{len(cases)} cases, {len(bad)} problems")
