@@ -1,7 +1,8 @@
 // sculpt view's outputs are written when the window closes, maybe after an hour's session, so
 // they are checked before it opens: a screenshot not named .png, a model format no writer has,
 // and a dump over the scene's base model were found out only at the end, after all the session
-// (exit 1, nothing written). Folders still missing are made when the files are written.
+// (exit 1, nothing written). Folders still missing are made when the files are written. A
+// --catch-up that is a folder is refused at start too.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -40,6 +41,18 @@ TEST_F(ViewSession, OutputsItCannotWriteAreRefusedBeforeTheWindowOpens) {
     EXPECT_EQ(text.find("view: frame"), std::string::npos) << "played before refusing: " << text;
   }
   EXPECT_TRUE(fs::exists(base));
+  // The catch-up log may not exist yet when the viewer starts, but a folder never becomes one.
+  {
+    const fs::path out = dir_ / "catch-up.txt";
+    ChildProcess viewer({SCULPT_BINARY, "view", scene.string(), "--lcm", private_url(0), "--catch-up", dir_.string(),
+                         "--exit-after-idle", "0.2"},
+                        out.string());
+    EXPECT_EQ(viewer.wait(30s), 2) << read_text(out);
+    EXPECT_NE(read_text(out).find("sculpt view: error: --catch-up " + dir_.string() +
+                                  ": a folder, not the station's durable log"),
+              std::string::npos)
+        << read_text(out);
+  }
   // Both written at the end, into folders made then.
   const fs::path shot = dir_ / "new" / "deeper" / "shot.png", copy = dir_ / "other" / "copy.ply";
   const fs::path out = dir_ / "view.txt";

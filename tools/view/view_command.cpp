@@ -4,6 +4,7 @@
 // and copied into an X window (see image_window.hpp for why), at most --fps a second, from a
 // niced process with one llvmpipe thread, so that the station keeps its cores.
 #include <CLI/CLI.hpp>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -118,6 +119,15 @@ class ViewCommand final : public Command {
     if (!log_path_.empty() && access(log_path_.c_str(), R_OK) != 0) {
       std::cerr << "sculpt view: error: " << log_path_ << ": cannot read: " << std::strerror(errno) << "\n";
       return kExitFailure;
+    }
+    // The catch-up log may not exist yet, but a folder or a device never becomes one: said now,
+    // not as a failed catch-up when the first frame is missed.
+    if (struct stat info{};
+        !catch_up_path_.empty() && stat(catch_up_path_.c_str(), &info) == 0 && !S_ISREG(info.st_mode)) {
+      std::cerr << "sculpt view: error: --catch-up " << catch_up_path_ << ": "
+                << (S_ISDIR(info.st_mode) ? "a folder" : "not a regular file")
+                << ", not the station's durable log (its output.log)\n";
+      return kExitUsage;
     }
     try {
       const rt::Scene scene = rt::load_scene(scene_path_);
