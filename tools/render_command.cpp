@@ -303,6 +303,12 @@ class RenderCommand final : public Command {
   deform::PointModel read_and_check(const std::string& path) const {
     deform::PointModel model = deform::read_model(path);
     if (model.empty()) throw deform::ModelFileError(path, "", "the model has no points to draw");
+    if (!(model.bounding_box_diagonal() > 0.0)) {
+      const std::string what = model.size() == 1
+                                   ? "the model has a single point"
+                                   : "the model's " + std::to_string(model.size()) + " points all coincide";
+      throw deform::ModelFileError(path, "", what + ": no size to draw (a splat's is its spacing)");
+    }
     bad_normals_.check(model, path);
     return model;
   }

@@ -115,8 +115,9 @@ StationSetup prepare_station(const Scene& scene) {
   try {
     s.spacing = deform::typical_spacing(s.model, deform::PointIndex(s.model));
   } catch (const std::invalid_argument& e) {
-    // A reduced set too small to have a length is the scene's ratio, not the model file.
-    if (!s.full_model) throw;
+    // A reduced set too small to have a length is the scene's ratio; otherwise it is the model
+    // file's, named as a bad file is (exit 1), not as an unnamed argument.
+    if (!s.full_model) throw deform::ModelFileError(scene.model.path, "", e.what());
     throw std::invalid_argument(
         scene.file + ": heuristic.reduced_ratio = " + base::number_text(scene.heuristic.reduced_ratio) + " leaves " +
         std::to_string(s.model.size()) + " of " + std::to_string(s.full_model->points) + " points: " + e.what());

@@ -315,6 +315,10 @@ refused_model "vertex at FLT_MAX in an OFF" huge.off 'OFF\n2 0 0\n0 0 0\n0 0 3.4
   "huge.off: line 4: 'z' = 3.40282e+38 in vertex 1 is out of range"
 refused_model "coincident model" same.xyz '1 2 3\n1 2 3\n1 2 3\n' \
   "same.xyz: the model's points all coincide: no length scale"
+# The same file under the other commands that load a model: named by its path, exit 1 (render
+# and the station's set-up said only "the model's points all coincide", report with exit 2).
+expect_exit 1 "render a coincident model" -- "$SCULPT" render "$work/same.xyz" --out "$work/same.png"
+one_line_error "render names the coincident model" "$work/same.xyz: the model's 3 points all coincide: no size to draw"
 
 # The station: a short run, then scene errors.
 scenes="$repo/scenes"
@@ -323,6 +327,9 @@ scenes="$repo/scenes"
 press_scene="$work/press.toml"
 sed "s|\.\./data/|$repo/data/|; s|\.\./out/|$work/|" "$scenes/sphere-press.toml" >"$press_scene"
 if [[ $with_lcm != ON ]]; then sed -i '/^log = /d' "$press_scene"; fi
+sed "s|^path = .*|path = \"$work/same.xyz\"|" "$press_scene" >"$work/same-model.toml"
+expect_exit 1 "run on a coincident model" -- "$SCULPT" run "$work/same-model.toml" --duration 0.2 --quiet --replace-log
+one_line_error "run names the coincident model" "$work/same.xyz: the model's points all coincide: no length scale"
 expect_exit 0 "run sphere-press" -- "$SCULPT" run "$press_scene" --duration 1.5 --quiet \
   --out "$work/run.ply" --json "$work/report.json"
 expect_json "run ticked and reported" "j['ticks'] > 500 and 'tick_time' in j and j['tick_cpu_time']['max_us'] <= j['tick_time']['max_us'] + 50 and 'faults' in j and j['rate_hz'] == 1000"
