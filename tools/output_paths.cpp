@@ -122,6 +122,12 @@ std::string lower_extension(const std::string& path) {
   return extension;
 }
 
+void refuse_non_png_picture(const std::string& option, const std::string& path) {
+  if (lower_extension(path) != ".png") {
+    throw std::invalid_argument(option + " " + path + ": the picture is written as PNG; name it .png");
+  }
+}
+
 void create_parent_folders(const std::string& path) {
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty()) fs::create_directories(parent);

@@ -47,6 +47,10 @@ void refuse_unwritable_model_format(const std::string& option, const std::string
 /// option that says the old session may go. A missing or empty file passes.
 void refuse_overwriting_log(const NamedPath& log, const std::string& replace_flag);
 
+/// Throws std::invalid_argument naming `option` when `path` is not named .png (what
+/// render::write_png writes).
+void refuse_non_png_picture(const std::string& option, const std::string& path);
+
 /// Makes the folders on `path`'s way that are still missing, as an output checked by
 /// refuse_unwritable_output is about to be written. A path without a folder needs none.
 /// @throw std::filesystem::filesystem_error when one cannot be made.

@@ -63,8 +63,7 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
 // The picture is written last, after seconds of rendering: a typo in its name or folder should
 // cost nothing, so it is checked first.
 void check_output_path(const std::string& path) {
-  if (lower_extension(path) != ".png")
-    throw std::invalid_argument("--out " + path + ": the picture is written as PNG; name it .png");
+  refuse_non_png_picture("--out", path);
   std::filesystem::path folder = std::filesystem::path(path).parent_path();
   if (folder.empty()) folder = ".";
   struct stat info {};

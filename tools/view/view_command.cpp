@@ -168,9 +168,7 @@ class ViewCommand final : public Command {
   // input (the base model is half of the edit history, the log the other).
   // @throw std::invalid_argument naming the option and what is wrong.
   void check_outputs_before_the_window(const rt::Scene& scene) const {
-    if (!screenshot_path_.empty() && lower_extension(screenshot_path_) != ".png") {
-      throw std::invalid_argument("--screenshot " + screenshot_path_ + ": the picture is written as PNG; name it .png");
-    }
+    if (!screenshot_path_.empty()) refuse_non_png_picture("--screenshot", screenshot_path_);
     if (!dump_path_.empty()) refuse_unwritable_model_format("--dump-model", dump_path_);
     const std::vector<NamedPath> outputs = {{"--screenshot", screenshot_path_}, {"--dump-model", dump_path_}};
     const std::vector<NamedPath> inputs = {{"the scene", scene_path_},
