@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "commands.hpp"
 #include "guard_report.hpp"
 #include "json_report.hpp"
+#include "output_paths.hpp"
 #include "sculpt/deform/atomic_file.hpp"
 #include "sculpt/deform/model_io.hpp"
 
@@ -121,6 +123,15 @@ class CheckCommand final : public Command {
 
   int run() override {
     const auto start = std::chrono::steady_clock::now();
+    // The JSON is written after every case has run (minutes): a folder given for it, or the scan
+    // itself, is found before the first.
+    try {
+      check_outputs(std::vector<NamedPath>{{"--json", json_path_}},
+                    std::vector<NamedPath>{{"the scan (--model)", scan_path_}});
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "sculpt check: error: " << e.what() << "\n";
+      return kExitUsage;
+    }
     std::vector<check::CaseSpec> cases;
     try {
       cases = check::make_cases({quick_, scan_path_});
@@ -187,8 +198,9 @@ class CheckCommand final : public Command {
         std::cout << json_text(doc);
       } else {
         try {
+          create_parent_folders(json_path_);
           deform::write_file_atomically(json_path_, json_text(doc));
-        } catch (const deform::ModelFileError& e) {
+        } catch (const std::exception& e) {
           std::cerr << "sculpt check: error: " << e.what() << "\n";
           return kExitFailure;
         }

@@ -184,6 +184,7 @@ class DeformCommand final : public Command {
       const std::vector<NamedPath> outputs = {{"--out", out_path_}, {"--json", json_path_}};
       refuse_shared_outputs(outputs);
       for (const NamedPath& output : outputs) refuse_unwritable_output(output);
+      if (!out_path_.empty()) refuse_unwritable_model_format("--out", out_path_);
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt deform: error: " << e.what() << "\n";
       return kExitUsage;
@@ -277,6 +278,7 @@ class DeformCommand final : public Command {
       const auto encoding = encoding_ == "ascii"    ? deform::PlyEncoding::kAscii
                             : encoding_ == "binary" ? deform::PlyEncoding::kBinaryLittleEndian
                                                     : deform::PlyEncoding::kBinaryBigEndian;
+      create_parent_folders(out_path_);
       deform::write_model(out_path_, model, encoding);
       write_ms = ms_since(write_start);
     }

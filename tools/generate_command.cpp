@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "number_check.hpp"
+#include "output_paths.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/model_io.hpp"
 
@@ -49,6 +50,10 @@ class GenerateCommand final : public Command {
   int run() override {
     try {
       refuse_unused_options();
+      // A hundred million points take minutes: a name or a folder that cannot take them is
+      // found first.
+      refuse_unwritable_model_format("--out", out_);
+      refuse_unwritable_output({"--out", out_});
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt generate: error: " << e.what() << "\n";
       return kExitUsage;
@@ -68,6 +73,7 @@ class GenerateCommand final : public Command {
         }
         model = deform::make_box({1.0, 1.0, 1.0}, spacing);
       }
+      create_parent_folders(out_);
       deform::write_model(out_, model);
       std::cout << "wrote " << out_ << ": " << model.size() << " points with normals" << note << "\n";
       return kExitOk;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "sculpt/base/version.hpp"
+#include "output_paths.hpp"
 #include "sculpt/deform/atomic_file.hpp"
 
 namespace sculpt::tools {
@@ -37,6 +38,7 @@ std::string json_text(const nlohmann::json& summary) {
 void write_json(const std::string& path, const nlohmann::json& summary) {
   const std::string text = json_text(summary);
   if (path != "-") {
+    create_parent_folders(path);
     deform::write_file_atomically(path, text);
     return;
   }

@@ -24,8 +24,9 @@ void reserve_stdout_for_json();
 /// and failing there would lose the summary after all the work.
 std::string json_text(const nlohmann::json& summary);
 
-/// Writes `summary` (json_text) to stdout for "-", else atomically to the
-/// file (deform::write_file_atomically).
+/// Writes `summary` (json_text) to stdout for "-", else atomically to the file
+/// (deform::write_file_atomically), making the folders on its way that are still missing (the
+/// path was checked by check_outputs before the work).
 void write_json(const std::string& path, const nlohmann::json& summary);
 
 }  // namespace sculpt::tools

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "commands.hpp"
+#include "output_paths.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/point_index.hpp"
 #include "sculpt/deform/spatial_order.hpp"
@@ -25,12 +26,20 @@ class OrderCommand final : public Command {
   }
   bool chosen() const override { return sub_->parsed(); }
   int run() override {
+    // --out may replace the model (it is written atomically): the same surface, reordered.
     try {
-      deform::check_model_format(out_);
+      refuse_unwritable_model_format("--out", out_);
+      refuse_unwritable_output({"--out", out_});
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "sculpt order: error: " << e.what() << "\n";
+      return kExitUsage;
+    }
+    try {
       const deform::PointModel model = deform::read_model(in_);
       const deform::PointModel ordered = deform::reordered(model, deform::spatial_order(model));
       const double before = deform::neighbour_locality(model, deform::PointIndex(model));
       const double after = deform::neighbour_locality(ordered, deform::PointIndex(ordered));
+      create_parent_folders(out_);
       deform::write_model(out_, ordered);
       char line[160];
       std::snprintf(line, sizeof line, "wrote %s: %zu points in Z order; neighbours within a cache line %.2f -> %.2f",

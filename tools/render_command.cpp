@@ -2,8 +2,6 @@
 // beside its earlier version and coloured by how far each point moved; with --log, the probes
 // and force arrows of a recorded session drawn over it; with --views, a row of views around it.
 #include <CLI/CLI.hpp>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -12,7 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <map>
 #include <stdexcept>
@@ -62,21 +59,10 @@ bool parse_size(const std::string& text, int& width, int& height, std::string& e
 
 // The picture is written last, after seconds of rendering: a typo in its name or folder should
 // cost nothing, so it is checked first.
+// Folders still missing on its way are made when it is written, as every command's outputs.
 void check_output_path(const std::string& path) {
   refuse_non_png_picture("--out", path);
-  std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  if (folder.empty()) folder = ".";
-  struct stat info {};
-  if (stat(folder.c_str(), &info) != 0 || !S_ISDIR(info.st_mode)) {
-    throw std::invalid_argument("--out " + path + ": folder " + folder.string() + " does not exist");
-  }
-  // The file is replaced by a rename inside its folder, so the folder must be writable.
-  if (access(folder.c_str(), W_OK | X_OK) != 0) {
-    throw std::invalid_argument("--out " + path + ": folder " + folder.string() + " is not writable");
-  }
-  if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
-    throw std::invalid_argument("--out " + path + " is a folder");
-  }
+  refuse_unwritable_output({"--out", path});
 }
 
 #if SCULPT_HAS_LCM
@@ -282,6 +268,7 @@ class RenderCommand final : public Command {
 #endif
     render::PictureInfo info;
     const render::Image picture = render::render_picture(model, before ? &*before : nullptr, request_, &info);
+    create_parent_folders(out_path_);
     render::write_png(out_path_, picture);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const char* drawn = !model.triangles.empty()               ? "drawn as faces"

@@ -216,10 +216,7 @@ class RunCommand final : public Command {
     summary["normals_checked"] = {{"zero_or_nonfinite", normals.zero_or_nonfinite},
                                   {"renormalised", normals.renormalised}};
     const std::string json = !json_path_.empty() ? json_path_ : scene.output.json.value_or("");
-    if (!json.empty()) {
-      if (json != "-") create_parent_folders(json);
-      write_json(json, summary);
-    }
+    if (!json.empty()) write_json(json, summary);
     const rt::StationTotals& t = station->totals();
     std::printf(
         "\nresult   %llu ticks at %.4g Hz, %llu overruns, tick median %.4g us p99 %.4g us p99.9 %.4g us "

@@ -140,13 +140,25 @@ TEST_F(RenderCommand, BadArgumentsAreExitTwoBeforeAnythingIsRead) {
   // The model does not exist: these must fail on the argument, not on the file.
   const std::string missing = path("missing.ply");
   expect_one_line_error(run({missing, "--out", path("x.jpg")}), 2, "name it .png");
-  expect_one_line_error(run({missing, "--out", path("no/such/folder/x.png")}), 2, "does not exist");
+  const std::string file = path("a-file");
+  std::ofstream(file) << "x";
+  expect_one_line_error(run({missing, "--out", file + "/x.png"}), 2, "a-file is not a directory");
+  expect_one_line_error(run({missing, "--out", folder_.string()}), 2, "name it .png");
   expect_one_line_error(run({missing, "--out", path("x.png"), "--size", "100"}), 2, "--size");
   expect_one_line_error(run({missing, "--out", path("x.png"), "--size", "8x8"}), 2, "--size");
   expect_one_line_error(run({missing, "--out", path("x.png"), "--view", "0,0,0"}), 2, "--view");
   expect_one_line_error(run({missing, "--out", folder_.string() + "/.png"}), 2, ".png");
   EXPECT_EQ(run({missing, "--out", path("x.png"), "--views", "0"}).status, 2);
   EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+// A folder still missing on the picture's way is made when it is written, as run, replay and
+// view make theirs: render refused it ("does not exist"), the only command that did.
+TEST_F(RenderCommand, MissingFoldersOnThePicturesWayAreMade) {
+  const std::string nested = path("new/deeper/x.png");
+  const CommandResult made = run({sphere_, "--out", nested, "--size", "64x48"});
+  ASSERT_EQ(made.status, 0) << made.output;
+  EXPECT_EQ(read_png(nested).width, 64);
 }
 
 TEST_F(RenderCommand, UnreadableInputIsExitOneAndModelsOfDifferentSizesExitTwo) {

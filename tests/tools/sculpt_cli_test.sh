@@ -75,7 +75,7 @@ expect_exit 0 "press the sphere" -- "$SCULPT" deform --model "$sphere" --contact
 expect_json "ordered sphere moves as far" "abs(j['max_displacement'] - json.load(open('$work/report-z.json'))['max_displacement']) <= 1e-6 * j['max_displacement']"
 expect_exit 1 "order a missing model" -- "$SCULPT" order "$work/none.ply" --out "$work/none-z.ply"
 one_line_error "order names the missing file" "none.ply"
-expect_exit 1 "order to an unknown format" -- "$SCULPT" order "$sphere" --out "$work/sphere.txt"
+expect_exit 2 "order to an unknown format" -- "$SCULPT" order "$sphere" --out "$work/sphere.txt"
 one_line_error "order names the output" "sphere.txt"
 if [[ ! -e "$work/sphere.txt" ]]; then ok "nothing written for an unknown format"; else bad "order wrote $work/sphere.txt"; fi
 
@@ -830,6 +830,33 @@ one_line_error "run format refused" "result.obj"
 (( $(date +%s) - start_s < 3 )) && ok "run refused the format before the session" || bad "run ran the session before refusing the format"
 expect_exit 2 "run --out naming the scene's base model" -- "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet --out "$work/base-link.ply"
 one_line_error "run --out naming the base model refused" "the scene's base model"
+# Folders still missing on an output's way are made, by every command: deform, generate, order
+# and check passed the check and then failed at the end, after the work ("cannot create a
+# temporary file in ..."; check's results were lost), where run, replay and view made them.
+expect_exit 0 "deform into new folders" -- "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 \
+  --out "$work/new/d/model.ply" --json "$work/new/d/j/report.json"
+expect_exit 0 "generate into a new folder" -- "$SCULPT" generate sphere --points 100 --out "$work/new/g/s.ply"
+expect_exit 0 "order into a new folder" -- "$SCULPT" order "$sphere" --out "$work/new/o/s.ply"
+expect_exit 0 "check --json into a new folder" -- "$SCULPT" check --case slide --json "$work/new/c/check.json"
+if [[ -s $work/new/d/model.ply && -s $work/new/d/j/report.json && -s $work/new/g/s.ply && -s $work/new/o/s.ply ]] &&
+  python3 -c "import json,sys; sys.exit(0 if json.load(open('$work/new/c/check.json'))['summary']['cases'] > 0 else 1)"; then
+  ok "each output was written where it was asked"
+else
+  bad "an output into a new folder is missing: $(find "$work/new" -type f)"
+fi
+# Refused before the work (exit 2), not after it.
+refused_early "check --json naming a directory" "--json $work/folder.ply is a directory" \
+  "$SCULPT" check --case slide --json "$work/folder.ply"
+refused_early "check --json over its scan" "is the scan (--model)" \
+  "$SCULPT" check --case slide --model "$work/model-copy.ply" --json "$work/model-copy.ply"
+refused_early "generate --out with an unknown format" "--out $work/g.obj: cannot write models with that extension" \
+  "$SCULPT" generate sphere --out "$work/g.obj"
+refused_early "generate --out under a file" "$work/plain-file is not a directory" \
+  "$SCULPT" generate sphere --out "$work/plain-file/g.ply"
+refused_early "order --out naming a directory" "--out $work/folder.ply is a directory" \
+  "$SCULPT" order "$sphere" --out "$work/folder.ply"
+refused_early "deform --out with an unknown format" "--out $work/d.obj: cannot write models with that extension" \
+  "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/d.obj"
 # A log cut inside its last event (what SIGKILL leaves): every complete frame, the cut's offset.
 python3 - "$work/sphere-squeeze.lcmlog" "$work/cut.lcmlog" "$work/cut.expect" <<'PY'
 import struct, sys
