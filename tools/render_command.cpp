@@ -219,6 +219,11 @@ class RenderCommand final : public Command {
       }
       request_.views = views_;
       request_.up = up_ == "x" ? render::UpAxis::kX : up_ == "z" ? render::UpAxis::kZ : render::UpAxis::kY;
+      try {
+        render::check_picture_request(request_, !before_path_.empty());
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string("--views and --size: ") + e.what());
+      }
       check_output_path(out_path_);
       refuse_output_naming_input({"--out", out_path_}, std::vector<NamedPath>{{"the model", model_path_},
                                                                               {"--compare", before_path_},

@@ -25,18 +25,6 @@ Vec3 turn(const Vec3& v, const Vec3& k, double degrees) {
   return std::cos(a) * v + std::sin(a) * cross(k, v) + (1.0 - std::cos(a)) * dot(k, v) * k;
 }
 
-void check(const PictureRequest& r) {
-  if (r.views < 1 || r.views > kMaxViews) {
-    throw std::invalid_argument("views must be 1 to " + std::to_string(kMaxViews) + ", got " + std::to_string(r.views));
-  }
-  if (!std::isfinite(r.azimuth_deg) || !std::isfinite(r.elevation_deg)) {
-    throw std::invalid_argument("azimuth and elevation must be finite");
-  }
-  if (r.look && (!is_finite(*r.look) || squared_norm(*r.look) == 0.0)) {
-    throw std::invalid_argument("the view direction must be a finite, nonzero vector");
-  }
-}
-
 // Every position the views must show: the models and the overlay (a probe's path starts
 // outside the model).
 struct Framing {
@@ -63,6 +51,17 @@ Framing frame(const deform::PointModel& model, const deform::PointModel* before,
   return f;
 }
 
+// The grid of views: one view compares side by side, several put the before row above.
+struct Grid {
+  int columns;
+  int rows;
+};
+
+Grid grid_of(const PictureRequest& r, bool compare) noexcept {
+  const bool side_by_side = compare && r.views == 1;
+  return {side_by_side ? 2 : r.views, side_by_side || !compare ? 1 : 2};
+}
+
 std::string view_label(const PictureRequest& r, bool compare, int row, int column) {
   std::string label;
   if (compare) label = row == 0 ? "before" : "after";
@@ -76,10 +75,36 @@ std::string view_label(const PictureRequest& r, bool compare, int row, int colum
 
 }  // namespace
 
+long long picture_grid_pixels(const PictureRequest& request, bool compare) noexcept {
+  const Grid grid = grid_of(request, compare);
+  return static_cast<long long>(grid.columns) * request.view_width * grid.rows * request.view_height;
+}
+
+void check_picture_request(const PictureRequest& r, bool compare) {
+  if (r.views < 1 || r.views > kMaxViews) {
+    throw std::invalid_argument("views must be 1 to " + std::to_string(kMaxViews) + ", got " + std::to_string(r.views));
+  }
+  if (!std::isfinite(r.azimuth_deg) || !std::isfinite(r.elevation_deg)) {
+    throw std::invalid_argument("azimuth and elevation must be finite");
+  }
+  if (r.look && (!is_finite(*r.look) || squared_norm(*r.look) == 0.0)) {
+    throw std::invalid_argument("the view direction must be a finite, nonzero vector");
+  }
+  const long long pixels = picture_grid_pixels(r, compare);
+  if (pixels > kMaxPicturePixels) {
+    const Grid grid = grid_of(r, compare);
+    throw std::invalid_argument(std::to_string(grid.columns) + " x " + std::to_string(grid.rows) + " views of " +
+                                std::to_string(r.view_width) + "x" + std::to_string(r.view_height) + " make " +
+                                std::to_string(pixels / 1000000) + " million pixels; a picture holds at most " +
+                                std::to_string(kMaxPicturePixels / 1000000) +
+                                " million: fewer views or a smaller size");
+  }
+}
+
 Image render_picture(const deform::PointModel& model, const deform::PointModel* before, const PictureRequest& request,
                      PictureInfo* info) {
-  check(request);
   const bool compare = before != nullptr;
+  check_picture_request(request, compare);
   // Deformation moves points and keeps connectivity, but not every writer keeps the faces: an
   // after model without faces of its own is drawn with before's, so the two panels differ only
   // in what moved.
@@ -111,8 +136,9 @@ Image render_picture(const deform::PointModel& model, const deform::PointModel* 
   const int bar_width = compare ? color_bar_width(bar) : 0;
   // One view compares side by side; a row of views puts the before row above the after row.
   const bool side_by_side = compare && request.views == 1;
-  const int columns = side_by_side ? 2 : request.views;
-  const int grid_rows = side_by_side ? 1 : static_cast<int>(models.size());
+  const Grid grid = grid_of(request, compare);
+  const int columns = grid.columns;
+  const int grid_rows = grid.rows;
   Image picture(columns * w + bar_width, grid_rows * h, request.lighting.background);
 
   // Labelled views keep the model out of a band as tall as the label, top and bottom alike.

@@ -149,6 +149,8 @@ TEST_F(RenderCommand, BadArgumentsAreExitTwoBeforeAnythingIsRead) {
   expect_one_line_error(run({missing, "--out", path("x.png"), "--view", "0,0,0"}), 2, "--view");
   expect_one_line_error(run({missing, "--out", folder_.string() + "/.png"}), 2, ".png");
   EXPECT_EQ(run({missing, "--out", path("x.png"), "--views", "0"}).status, 2);
+  expect_one_line_error(run({missing, "--out", path("x.png"), "--views", "36", "--size", "4000x4000"}), 2,
+                        "--views and --size: 36 x 1 views of 4000x4000 make 576 million pixels");
   EXPECT_FALSE(fs::exists(path("x.png")));
 }
 

@@ -42,12 +42,26 @@ struct PictureInfo {
   std::vector<Camera> cameras;  ///< one per view, shared by before and after
 };
 
+/// The most pixels a picture's grid of views may hold (the colour bar aside): 64 megapixels,
+/// 192 MB of RGB. Past it a request is refused before anything is drawn: a row of 36 views of
+/// 4096 x 4096 would be a 1.8 GB picture, which few programs can open.
+inline constexpr long long kMaxPicturePixels = 64000000;
+
+/// The pixels of the grid of views `request` asks for, with or without a `before` model
+/// (compare): one view compares side by side, several put a row of `before` above the row.
+long long picture_grid_pixels(const PictureRequest& request, bool compare) noexcept;
+
+/// Throws std::invalid_argument when `request` cannot be drawn: views out of 1 to 36, a
+/// non-finite angle or view direction, or a grid past kMaxPicturePixels (the message gives its
+/// size and the limit).
+void check_picture_request(const PictureRequest& request, bool compare);
+
 /// Renders `model` as asked, each view's camera fitted to the models' bounding sphere and then
 /// tightened on their points (and the overlay's). With `before`, `before` and `model` are drawn from the same cameras
 /// (fitted to both models together), `model` coloured by its displacement from `before`, with
 /// a colour bar to the right: side by side for one view, a row of `before` above a row of
 /// `model` for several. A `model` without faces is drawn with `before`'s when it has some. Throws std::invalid_argument for a request
-/// out of range or models whose point counts differ, RenderError when no context can be made.
+/// check_picture_request refuses or models whose point counts differ, RenderError when no context can be made.
 Image render_picture(const deform::PointModel& model, const deform::PointModel* before, const PictureRequest& request,
                      PictureInfo* info = nullptr);
 
