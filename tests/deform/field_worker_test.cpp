@@ -135,6 +135,32 @@ TEST(FieldWorker, ASplitPassIsBitIdenticalToOneThreadAndItsJournalRestoresEveryB
   }
 }
 
+// The parts of a split pass shrink towards its end (so that the two threads finish together):
+// whatever the pass's length, they must cover each of its points exactly once. A point left out
+// keeps its old position, one in two parts moves twice; either differs from one thread's pass.
+// Lengths around the split threshold, off the block size, and with many parts.
+TEST(FieldWorker, ThePartsOfASplitPassCoverEveryPointOnce) {
+  const PointModel base = make_sphere(140000);
+  std::vector<SourceForce> sources;
+  for (int s = 0; s < 3; ++s) sources.push_back({{0.5 * s - 0.5, 0.2, 1.2}, {0.01, -0.02, -0.04 * (s + 1)}});
+  FieldWorker worker;
+  for (const std::uint32_t length : {16384u, 16385u, 33333u, 100003u, 140000u}) {
+    SCOPED_TRACE(::testing::Message() << length << " points");
+    // Every point of the prefix, in order: the pass's points are an index set of that length.
+    std::vector<std::uint32_t> points(length);
+    for (std::uint32_t i = 0; i < length; ++i) points[i] = i;
+    PointModel one = base, two = base;
+    const FieldResult a = apply_displacements(one, Kernel{}, sources, points, false, {Precision::kFloat, true}, true);
+    const FieldResult b =
+        apply_displacements(two, Kernel{}, sources, points, false, {Precision::kFloat, true}, true, nullptr, &worker);
+    EXPECT_TRUE(same_bytes(one, two));
+    EXPECT_EQ(a.max_displacement, b.max_displacement);
+    EXPECT_EQ(a.min_jacobian, b.min_jacobian);
+    // And the points past the prefix stayed where they were (the last part ends at the pass's end).
+    for (std::size_t i = length; i < base.size(); i += 997) EXPECT_EQ(two.position(i), base.position(i)) << i;
+  }
+}
+
 // A stroke of pushes on the 60,000-point sphere, global and in a region, with one thread and
 // with two: every frame's output is the next one's input, and the two end byte for byte equal.
 TEST(FieldWorker, ADeformerWithTwoThreadsSculptsAStrokeToTheSameBytes) {
