@@ -50,8 +50,8 @@ class GenerateCommand final : public Command {
   int run() override {
     try {
       refuse_unused_options();
-      // A hundred million points take minutes: a name or a folder that cannot take them is
-      // found first.
+      // Up to a hundred million points are made before anything is written: a name or a folder
+      // that cannot take them is found first.
       refuse_unwritable_model_format("--out", out_);
       refuse_unwritable_output({"--out", out_});
     } catch (const std::invalid_argument& e) {

@@ -55,11 +55,12 @@ Framing frame(const deform::PointModel& model, const deform::PointModel* before,
 struct Grid {
   int columns;
   int rows;
+  bool side_by_side;  // before and after in one row
 };
 
 Grid grid_of(const PictureRequest& r, bool compare) noexcept {
   const bool side_by_side = compare && r.views == 1;
-  return {side_by_side ? 2 : r.views, side_by_side || !compare ? 1 : 2};
+  return {side_by_side ? 2 : r.views, side_by_side || !compare ? 1 : 2, side_by_side};
 }
 
 std::string view_label(const PictureRequest& r, bool compare, int row, int column) {
@@ -134,9 +135,8 @@ Image render_picture(const deform::PointModel& model, const deform::PointModel* 
   const int label_scale = h >= 240 ? 2 : 1;
   const ColorBar bar{max_displacement, "displacement", request.unit, label_scale};
   const int bar_width = compare ? color_bar_width(bar) : 0;
-  // One view compares side by side; a row of views puts the before row above the after row.
-  const bool side_by_side = compare && request.views == 1;
   const Grid grid = grid_of(request, compare);
+  const bool side_by_side = grid.side_by_side;
   const int columns = grid.columns;
   const int grid_rows = grid.rows;
   Image picture(columns * w + bar_width, grid_rows * h, request.lighting.background);
