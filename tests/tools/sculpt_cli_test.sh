@@ -855,6 +855,9 @@ refused_early "generate --out under a file" "$work/plain-file is not a directory
   "$SCULPT" generate sphere --out "$work/plain-file/g.ply"
 refused_early "order --out naming a directory" "--out $work/folder.ply is a directory" \
   "$SCULPT" order "$sphere" --out "$work/folder.ply"
+mkdir -p "$work/plain-folder"
+refused_early "generate --out naming a directory without an extension" "--out $work/plain-folder is a directory" \
+  "$SCULPT" generate sphere --out "$work/plain-folder"
 refused_early "deform --out with an unknown format" "--out $work/d.obj: cannot write models with that extension" \
   "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/d.obj"
 # A log cut inside its last event (what SIGKILL leaves): every complete frame, the cut's offset.
