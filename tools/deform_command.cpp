@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "guard_report.hpp"
 #include "json_report.hpp"
+#include "output_files.hpp"
 #include "output_paths.hpp"
 #include "repeat_timing.hpp"
 #include "sculpt/deform/deformer.hpp"
@@ -278,8 +279,7 @@ class DeformCommand final : public Command {
       const auto encoding = encoding_ == "ascii"    ? deform::PlyEncoding::kAscii
                             : encoding_ == "binary" ? deform::PlyEncoding::kBinaryLittleEndian
                                                     : deform::PlyEncoding::kBinaryBigEndian;
-      create_parent_folders(out_path_);
-      deform::write_model(out_path_, model, encoding);
+      write_model_output(out_path_, model, encoding);
       write_ms = ms_since(write_start);
     }
 

@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "number_check.hpp"
+#include "output_files.hpp"
 #include "output_paths.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/model_io.hpp"
@@ -73,8 +74,7 @@ class GenerateCommand final : public Command {
         }
         model = deform::make_box({1.0, 1.0, 1.0}, spacing);
       }
-      create_parent_folders(out_);
-      deform::write_model(out_, model);
+      write_model_output(out_, model);
       std::cout << "wrote " << out_ << ": " << model.size() << " points with normals" << note << "\n";
       return kExitOk;
     } catch (const std::exception& e) {

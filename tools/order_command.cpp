@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "commands.hpp"
+#include "output_files.hpp"
 #include "output_paths.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/point_index.hpp"
@@ -39,8 +40,7 @@ class OrderCommand final : public Command {
       const deform::PointModel ordered = deform::reordered(model, deform::spatial_order(model));
       const double before = deform::neighbour_locality(model, deform::PointIndex(model));
       const double after = deform::neighbour_locality(ordered, deform::PointIndex(ordered));
-      create_parent_folders(out_);
-      deform::write_model(out_, ordered);
+      write_model_output(out_, ordered);
       char line[160];
       std::snprintf(line, sizeof line, "wrote %s: %zu points in Z order; neighbours within a cache line %.2f -> %.2f",
                     out_.c_str(), ordered.size(), before, after);

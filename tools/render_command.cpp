@@ -18,11 +18,11 @@
 #include "bad_normals_option.hpp"
 #include "commands.hpp"
 #include "number_check.hpp"
+#include "output_files.hpp"
 #include "output_paths.hpp"
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/render/picture.hpp"
-#include "sculpt/render/png_file.hpp"
 #include "vector_argument.hpp"
 #if SCULPT_HAS_LCM
 #include "sculpt/logging/channels.hpp"
@@ -273,8 +273,7 @@ class RenderCommand final : public Command {
 #endif
     render::PictureInfo info;
     const render::Image picture = render::render_picture(model, before ? &*before : nullptr, request_, &info);
-    create_parent_folders(out_path_);
-    render::write_png(out_path_, picture);
+    write_picture_output(out_path_, picture);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const char* drawn = !model.triangles.empty()               ? "drawn as faces"
                         : before && !before->triangles.empty() ? "drawn with the faces of --compare's model"

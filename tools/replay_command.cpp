@@ -20,6 +20,7 @@
 #include "commands.hpp"
 #include "json_report.hpp"
 #include "number_check.hpp"
+#include "output_files.hpp"
 #include "output_paths.hpp"
 #include "recording_check.hpp"
 #include "sculpt/deform/model_identity.hpp"
@@ -589,8 +590,7 @@ class ReplayCommand final : public Command {
     }
     const deform::PointModel& result = transferred ? *transferred : *rerun;
     if (!out_path_.empty()) {
-      create_parent_folders(out_path_);
-      deform::write_model(out_path_, result);
+      write_model_output(out_path_, result);
       std::printf("wrote    %s\n", out_path_.c_str());
     }
     // Damage is what --strict turns into a status: the reader's inside the log (stopped at or

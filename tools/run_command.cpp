@@ -18,6 +18,7 @@
 #include "json_report.hpp"
 #include "lcm_url_option.hpp"
 #include "number_check.hpp"
+#include "output_files.hpp"
 #include "output_paths.hpp"
 #include "recording_check.hpp"
 #include "sculpt/base/time_limits.hpp"
@@ -201,8 +202,7 @@ class RunCommand final : public Command {
     std::string model_error;
     if (!out.empty()) {
       try {
-        create_parent_folders(out);
-        deform::write_model(out, setup.model);
+        write_model_output(out, setup.model);
       } catch (const std::exception& e) {
         model_error = e.what();
       }

@@ -32,13 +32,13 @@
 #include "lcm_receiver.hpp"
 #include "number_check.hpp"
 #include "orbit_view.hpp"
+#include "output_files.hpp"
 #include "output_paths.hpp"
 #include "playback.hpp"
 #include "sculpt/base/clock.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/logging/frame_runs.hpp"
 #include "sculpt/render/camera.hpp"
-#include "sculpt/render/png_file.hpp"
 #include "sculpt/render/render_model.hpp"
 #include "sculpt/render/text.hpp"
 #include "sculpt/render/view_renderer.hpp"
@@ -426,12 +426,10 @@ class ViewCommand final : public Command {
     // The X server draws asynchronously: let it take the last picture before it is read back.
     window_->poll();
     if (!screenshot_path_.empty()) {
-      create_parent_folders(screenshot_path_);
-      render::write_png(screenshot_path_, window_->capture());
+      write_picture_output(screenshot_path_, window_->capture());
     }
     if (!dump_path_.empty()) {
-      create_parent_folders(dump_path_);
-      deform::write_model(dump_path_, model_);
+      write_model_output(dump_path_, model_);
     }
   }
 
