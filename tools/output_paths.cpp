@@ -39,6 +39,15 @@ fs::path nearest_existing_folder(const fs::path& path) {
   return folder.empty() ? fs::path(".") : folder;
 }
 
+// A directory named as an output is named as one, whatever its extension ("/tmp" has none,
+// "shots.png" may be a folder): before the format checks, which would otherwise blame the name.
+void refuse_directory(const NamedPath& output) {
+  std::error_code error;
+  if (names_a_file(output.path) && fs::is_directory(output.path, error)) {
+    throw std::invalid_argument(output.what + " " + output.path + " is a directory, not a file to write");
+  }
+}
+
 void refuse_unusable_folder(const NamedPath& output, const fs::path& folder) {
   std::error_code error;
   if (!fs::is_directory(folder, error)) {
@@ -64,10 +73,8 @@ void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPa
 
 void refuse_unwritable_output(const NamedPath& output) {
   if (!names_a_file(output.path)) return;
+  refuse_directory(output);
   std::error_code error;
-  if (fs::is_directory(output.path, error)) {
-    throw std::invalid_argument(output.what + " " + output.path + " is a directory, not a file to write");
-  }
   // A device written in place (a log sent to /dev/null) needs no right on its folder; the atomic
   // writers refuse one themselves, naming it.
   const fs::file_status status = fs::status(output.path, error);
@@ -123,6 +130,7 @@ std::string lower_extension(const std::string& path) {
 }
 
 void refuse_non_png_picture(const std::string& option, const std::string& path) {
+  refuse_directory({option, path});
   if (lower_extension(path) != ".png") {
     throw std::invalid_argument(option + " " + path + ": the picture is written as PNG; name it .png");
   }
@@ -134,6 +142,7 @@ void create_parent_folders(const std::string& path) {
 }
 
 void refuse_unwritable_model_format(const std::string& option, const std::string& path) {
+  refuse_directory({option, path});
   try {
     deform::check_model_format(path);
   } catch (const deform::ModelFileError&) {

@@ -37,8 +37,8 @@ void refuse_shared_outputs(std::span<const NamedPath> outputs);
 /// each could be written, and no two share a file. The first problem found is thrown.
 void check_outputs(std::span<const NamedPath> outputs, std::span<const NamedPath> inputs);
 
-/// Throws std::invalid_argument naming `option` when `path` is not .ply, .off or .xyz (what
-/// deform::write_model writes).
+/// Throws std::invalid_argument naming `option` when `path` is a directory (whatever its
+/// extension), or is not .ply, .off or .xyz (what deform::write_model writes).
 void refuse_unwritable_model_format(const std::string& option, const std::string& path);
 
 /// Throws std::invalid_argument when `log` names a file that exists and holds anything: an event
@@ -47,8 +47,8 @@ void refuse_unwritable_model_format(const std::string& option, const std::string
 /// option that says the old session may go. A missing or empty file passes.
 void refuse_overwriting_log(const NamedPath& log, const std::string& replace_flag);
 
-/// Throws std::invalid_argument naming `option` when `path` is not named .png (what
-/// render::write_png writes).
+/// Throws std::invalid_argument naming `option` when `path` is a directory, or is not named
+/// .png (what render::write_png writes).
 void refuse_non_png_picture(const std::string& option, const std::string& path);
 
 /// Makes the folders on `path`'s way that are still missing, as an output checked by

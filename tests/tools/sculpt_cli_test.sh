@@ -815,6 +815,20 @@ refused_early "run's output.json naming a directory" "output.json $work/folder.p
   "$SCULPT" run "$work/json-folder.toml" --duration 4 --quiet --replace-log
 refused_early "replay --out naming a directory" "--out $work/folder.ply is a directory" \
   "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/folder.ply"
+# A folder without a model's or a picture's extension is named as a folder too, not as a format.
+mkdir -p "$work/out-folder"
+refused_early "run --out naming a directory without an extension" "--out $work/out-folder is a directory, not a file to write" \
+  "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet --replace-log --out "$work/out-folder"
+refused_early "replay --out naming a directory without an extension" "--out $work/out-folder is a directory" \
+  "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/out-folder"
+refused_early "deform --out naming a directory without an extension" "--out $work/out-folder is a directory" \
+  "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/out-folder"
+refused_early "render --out naming a directory without an extension" "--out $work/out-folder is a directory" \
+  "$SCULPT" render "$sphere" --out "$work/out-folder"
+refused_early "view --dump-model naming a directory" "--dump-model $work/out-folder is a directory" \
+  "$SCULPT" view "$work/squeeze.toml" --dump-model "$work/out-folder"
+refused_early "view --screenshot naming a directory" "--screenshot $work/out-folder is a directory" \
+  "$SCULPT" view "$work/squeeze.toml" --screenshot "$work/out-folder"
 refused_early "deform --json under a file" "--json $work/plain-file/x/d.json: $work/plain-file is not a directory" \
   "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --json "$work/plain-file/x/d.json"
 refused_early "report --out naming a file" "--out $work/plain-file: $work/plain-file is not a directory" \
