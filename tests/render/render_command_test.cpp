@@ -143,7 +143,8 @@ TEST_F(RenderCommand, BadArgumentsAreExitTwoBeforeAnythingIsRead) {
   const std::string file = path("a-file");
   std::ofstream(file) << "x";
   expect_one_line_error(run({missing, "--out", file + "/x.png"}), 2, "a-file is not a directory");
-  expect_one_line_error(run({missing, "--out", folder_.string()}), 2, "name it .png");
+  // A folder is named as one, not blamed on its missing extension.
+  expect_one_line_error(run({missing, "--out", folder_.string()}), 2, "is a directory, not a file to write");
   expect_one_line_error(run({missing, "--out", path("x.png"), "--size", "100"}), 2, "--size");
   expect_one_line_error(run({missing, "--out", path("x.png"), "--size", "8x8"}), 2, "--size");
   expect_one_line_error(run({missing, "--out", path("x.png"), "--view", "0,0,0"}), 2, "--view");
