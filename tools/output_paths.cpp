@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include "sculpt/base/regular_file.hpp"
 #include "sculpt/deform/model_io.hpp"
 
 namespace sculpt::tools {
@@ -39,13 +40,14 @@ fs::path nearest_existing_folder(const fs::path& path) {
   return folder.empty() ? fs::path(".") : folder;
 }
 
-// A directory named as an output is named as one, whatever its extension ("/tmp" has none,
-// "shots.png" may be a folder): before the format checks, which would otherwise blame the name.
-void refuse_directory(const NamedPath& output) {
-  std::error_code error;
-  if (names_a_file(output.path) && fs::is_directory(output.path, error)) {
-    throw std::invalid_argument(output.what + " " + output.path + " is a directory, not a file to write");
-  }
+// An existing output that is not a regular file is named for what it is, whatever its
+// extension ("/tmp" has none, "shots.png" may be a folder), before the format checks would blame
+// the name, and before the work: the atomic writers refuse a FIFO or /dev/null only at the end.
+void refuse_non_regular(const NamedPath& output) {
+  if (!names_a_file(output.path)) return;
+  const std::string kind = base::non_regular_kind(output.path);
+  if (kind.empty() || (output.device_allowed && kind == base::kCharacterDevice)) return;
+  throw std::invalid_argument(output.what + " " + output.path + " is " + kind + ", not a file to write");
 }
 
 void refuse_unusable_folder(const NamedPath& output, const fs::path& folder) {
@@ -73,12 +75,11 @@ void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPa
 
 void refuse_unwritable_output(const NamedPath& output) {
   if (!names_a_file(output.path)) return;
-  refuse_directory(output);
+  refuse_non_regular(output);
   std::error_code error;
-  // A device written in place (a log sent to /dev/null) needs no right on its folder; the atomic
-  // writers refuse one themselves, naming it.
+  // A device written in place (a log sent to /dev/null) needs no right on its folder.
   const fs::file_status status = fs::status(output.path, error);
-  if (!error && fs::exists(status) && !fs::is_regular_file(status) && ::access(output.path.c_str(), W_OK) == 0) return;
+  if (!error && fs::is_character_file(status) && ::access(output.path.c_str(), W_OK) == 0) return;
   refuse_unusable_folder(output, nearest_existing_folder(output.path));
 }
 
@@ -130,7 +131,7 @@ std::string lower_extension(const std::string& path) {
 }
 
 void refuse_non_png_picture(const std::string& option, const std::string& path) {
-  refuse_directory({option, path});
+  refuse_non_regular({option, path});
   if (lower_extension(path) != ".png") {
     throw std::invalid_argument(option + " " + path + ": the picture is written as PNG; name it .png");
   }
@@ -142,7 +143,7 @@ void create_parent_folders(const std::string& path) {
 }
 
 void refuse_unwritable_model_format(const std::string& option, const std::string& path) {
-  refuse_directory({option, path});
+  refuse_non_regular({option, path});
   try {
     deform::check_model_format(path);
   } catch (const deform::ModelFileError&) {

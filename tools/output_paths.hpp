@@ -11,6 +11,9 @@ namespace sculpt::tools {
 struct NamedPath {
   std::string what;
   std::string path;
+  /// An output that may be a character device: a session's log sent to /dev/null, kept nowhere
+  /// on purpose. Every other output is written atomically, which takes regular files only.
+  bool device_allowed = false;
 };
 
 /// Throws std::invalid_argument ("--out x.ply is the model (--model x.ply); ...") when
@@ -20,8 +23,9 @@ struct NamedPath {
 void refuse_output_naming_input(const NamedPath& output, std::span<const NamedPath> inputs);
 
 /// Throws std::invalid_argument when `output` could not be written once the work is done: it is
-/// a directory, or the nearest folder on its way that exists is not a directory or not writable
-/// (the folders still missing are made when it is written). Empty paths and "-" pass.
+/// a directory, a FIFO, a socket or a device (a character device passes where `device_allowed`),
+/// or the nearest folder on its way that exists is not a directory or not writable (the folders
+/// still missing are made when it is written). Empty paths and "-" pass.
 void refuse_unwritable_output(const NamedPath& output);
 
 /// The same for an output folder (sculpt report --out): an existing path must be a writable
@@ -37,8 +41,9 @@ void refuse_shared_outputs(std::span<const NamedPath> outputs);
 /// each could be written, and no two share a file. The first problem found is thrown.
 void check_outputs(std::span<const NamedPath> outputs, std::span<const NamedPath> inputs);
 
-/// Throws std::invalid_argument naming `option` when `path` is a directory (whatever its
-/// extension), or is not .ply, .off or .xyz (what deform::write_model writes).
+/// Throws std::invalid_argument naming `option` when `path` is a directory or anything else
+/// that is not a regular file (whatever its extension), or is not .ply, .off or .xyz (what
+/// deform::write_model writes).
 void refuse_unwritable_model_format(const std::string& option, const std::string& path);
 
 /// Throws std::invalid_argument when `log` names a file that exists and holds anything: an event
@@ -47,8 +52,8 @@ void refuse_unwritable_model_format(const std::string& option, const std::string
 /// option that says the old session may go. A missing or empty file passes.
 void refuse_overwriting_log(const NamedPath& log, const std::string& replace_flag);
 
-/// Throws std::invalid_argument naming `option` when `path` is a directory, or is not named
-/// .png (what render::write_png writes).
+/// Throws std::invalid_argument naming `option` when `path` is a directory or anything else
+/// that is not a regular file, or is not named .png (what render::write_png writes).
 void refuse_non_png_picture(const std::string& option, const std::string& path);
 
 /// Makes the folders on `path`'s way that are still missing, as an output checked by

@@ -276,7 +276,11 @@ class ReplayCommand final : public Command {
       inputs.push_back({"the scene (--scene)", scene_path_});
       inputs.push_back({"the scene's base model", rt::load_scene(scene_path_).model.path});
     }
-    const std::vector<NamedPath> outputs = {{"--out", out_path_}, {"--json", json_path_}, { "--record", record_path_ }};
+    const std::vector<NamedPath> outputs = {{"--out", out_path_},
+                                            {"--json", json_path_},
+                                            { "--record",
+                                              record_path_,
+                                              true }};
     check_outputs(outputs, inputs);
     if (!record_path_.empty() && !replace_log_) refuse_overwriting_log({"--record", record_path_}, "--replace-log");
   }

@@ -14,10 +14,12 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "sculpt/base/regular_file.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 
@@ -81,9 +83,28 @@ void DurableLog::lock_writer() {
   // it and interleave their events. The lock is taken before the file is truncated, so the
   // refused session leaves the other's log as it is. flock is advisory and held by this open
   // file description, so readers (the viewer, sculpt replay) are not stopped.
-  lock_fd_ = ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  // A log is a file, or a device that takes every write (/dev/null, for a session kept
+  // nowhere). A FIFO held the open until a reader came (the station never started), and
+  // keeps nothing that a recovery or a replay could read back.
+  const auto refuse_kind = [&](const std::string& kind) {
+    throw std::runtime_error("DurableLog: '" + config_.path + "' is " + kind +
+                             ": a session's log is its edit history and must be a file");
+  };
+  if (const std::string kind = base::non_regular_kind(config_.path); !kind.empty() && kind != base::kCharacterDevice) {
+    refuse_kind(kind);
+  }
+  // O_NONBLOCK: a FIFO made after the check fails the open at once instead of waiting.
+  lock_fd_ = ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK, 0644);
   if (lock_fd_ < 0) {
     throw std::runtime_error("DurableLog: cannot open '" + config_.path + "' for writing: " + std::strerror(errno));
+  }
+  struct stat info {};
+  if (::fstat(lock_fd_, &info) == 0 && !S_ISREG(info.st_mode)) {
+    if (!S_ISCHR(info.st_mode)) {
+      release_writer_lock();
+      refuse_kind("not a regular file");
+    }
+    return;  // a device keeps no session for another writer to spoil: two may share /dev/null
   }
   if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
     const int saved = errno;

@@ -7,6 +7,9 @@
 
 #include <sys/stat.h>
 #include <sys/types.h>
+#include <unistd.h>
+
+#include "sculpt/base/regular_file.hpp"
 
 namespace sculpt::logging {
 namespace {
@@ -29,23 +32,26 @@ std::string hex32(std::uint32_t value) {
 }  // namespace
 
 EventLogReader::EventLogReader(const std::string& path, std::uint64_t start) : path_(path), position_(start) {
-  file_ = std::fopen(path.c_str(), "rb");
-  if (file_ == nullptr) throw LogFileError(path + ": cannot open: " + std::strerror(errno));
-  struct stat info {};
-  // errno says why only when fstat failed: a folder opens and stats fine, and the errno left
-  // from earlier calls ("No such file or directory") would name the wrong cause.
-  std::string problem;
-  if (::fstat(::fileno(file_), &info) != 0) {
-    problem = std::string("cannot read its size: ") + std::strerror(errno);
-  } else if (S_ISDIR(info.st_mode)) {
-    problem = "a folder, not a log file";
-  } else if (!S_ISREG(info.st_mode)) {
-    problem = "not a regular file (a device, pipe or socket), so not a log file";
+  // Opened as base opens a model or a scene: a FIFO named as a log used to hold fopen until a
+  // writer came (sculpt replay, render and report waited for ever), and a folder or a device is
+  // named for what it is.
+  int fd = -1;
+  try {
+    fd = base::open_regular_file(path);
+  } catch (const base::FileReadError& e) {
+    throw LogFileError(path + ": " + e.what());
   }
-  if (!problem.empty()) {
-    std::fclose(file_);
-    file_ = nullptr;
-    throw LogFileError(path + ": " + problem);
+  struct stat info {};
+  if (::fstat(fd, &info) != 0) {
+    const std::string why = std::strerror(errno);
+    ::close(fd);
+    throw LogFileError(path + ": cannot read its size: " + why);
+  }
+  file_ = ::fdopen(fd, "rb");
+  if (file_ == nullptr) {
+    const std::string why = std::strerror(errno);
+    ::close(fd);
+    throw LogFileError(path + ": cannot open: " + why);
   }
   size_ = static_cast<std::uint64_t>(info.st_size);
   if (start > size_) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -380,6 +381,36 @@ TEST(DurableLog, UnwritablePathThrowsNamingIt) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(config.path), std::string::npos) << e.what();
   }
+}
+
+// A FIFO named as the log held the open until a reader came, so the station never started, and
+// would keep nothing to recover or replay: refused at once, naming it. /dev/null, a session
+// kept nowhere on purpose, still opens and takes a whole session, for two writers at once.
+TEST(DurableLog, AFifoIsRefusedAtOnceAndDevNullTakesASession) {
+  const std::string fifo = temp_path("fifo.lcmlog");
+  std::filesystem::create_directories(std::filesystem::path(fifo).parent_path());
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  DurableLogConfig config;
+  config.path = fifo;
+  try {
+    DurableLog log(config);
+    ADD_FAILURE() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "DurableLog: '" + fifo + "' is a FIFO: a session's log is its edit history and must be a file");
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo)) << "the FIFO is left as it was";
+  std::filesystem::remove(fifo);
+
+  config.path = "/dev/null";
+  DurableLog log(config);
+  DurableLog beside(config);  // a device keeps no session, so two stations may both send theirs there
+  log.start();
+  for (std::int64_t t = 0; t < 100; ++t) ASSERT_TRUE(log.record(TickRecord{.utime = t}));
+  log.stop();
+  EXPECT_EQ(log.counters()[LogKind::kTick].written, 100u);
+  EXPECT_EQ(log.counters().write_errors, 0u);
 }
 
 // Two sessions on one log (a scene run twice at once) would both truncate it and interleave

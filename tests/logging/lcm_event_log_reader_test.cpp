@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -13,6 +14,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <sys/stat.h>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -141,9 +144,24 @@ TEST(EventLogReader, AFolderOrADeviceIsNamedForWhatItIs) {
   };
   errno = ENOENT;  // as a failed lookup before the call would leave it
   const std::string folder = std::filesystem::temp_directory_path().string();
-  EXPECT_EQ(message(folder), folder + ": a folder, not a log file");
+  EXPECT_EQ(message(folder), folder + ": cannot read: a directory, not a regular file");
   errno = ENOENT;
-  EXPECT_EQ(message("/dev/null"), "/dev/null: not a regular file (a device, pipe or socket), so not a log file");
+  EXPECT_EQ(message("/dev/null"), "/dev/null: cannot read: a character device, not a regular file");
+}
+
+// A FIFO named as a log held the open until a writer came: `sculpt replay`, `render --log` and
+// `report` waited for ever. It is refused at once, as a model or a scene is.
+TEST(EventLogReader, AFifoIsRefusedWithoutWaitingForAWriter) {
+  const std::string path = temp_path("fifo.lcmlog");
+  std::filesystem::remove(path);
+  ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0) << std::strerror(errno);
+  try {
+    EventLogReader reader(path);
+    ADD_FAILURE() << "no throw";
+  } catch (const LogFileError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": cannot read: a FIFO, not a regular file");
+  }
+  std::filesystem::remove(path);
 }
 
 TEST(EventLogReader, EmptyFileIsTheEnd) {

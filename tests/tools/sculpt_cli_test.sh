@@ -743,6 +743,18 @@ expect_exit 1 "random bytes as a log" -- "$SCULPT" replay "$work/random.lcmlog" 
 one_line_error "random bytes are not a log" "random.lcmlog: not an event log"
 expect_exit 1 "a PLY as a log" -- "$SCULPT" replay "$sphere" --model "$sphere"
 one_line_error "a PLY is not a log" "sphere_3203.ply: not an event log"
+# A FIFO named as a log held the open until a writer came: these commands waited for ever.
+mkfifo "$work/fifo.lcmlog"
+expect_exit 1 "a FIFO as replay's log, refused without waiting" -- timeout 20 "$SCULPT" replay "$work/fifo.lcmlog" --model "$sphere"
+one_line_error "replay names the FIFO" "fifo.lcmlog: cannot read: a FIFO, not a regular file"
+expect_exit 1 "a FIFO as render's --log, refused without waiting" -- timeout 20 "$SCULPT" render "$sphere" --log "$work/fifo.lcmlog" --out "$work/fifo.png"
+one_line_error "render names the FIFO" "fifo.lcmlog: cannot read: a FIFO, not a regular file"
+expect_exit 1 "a FIFO as report's session log, refused without waiting" -- timeout 20 "$SCULPT" report "$work/fifo.lcmlog" --out "$work/fifo-report"
+one_line_error "report names the FIFO" "fifo.lcmlog: cannot read: a FIFO, not a regular file"
+expect_exit 1 "a FIFO as view's --log, refused before the window" -- timeout 20 "$SCULPT" view "$work/squeeze.toml" --log "$work/fifo.lcmlog"
+one_line_error "view names the FIFO" "fifo.lcmlog: cannot read: a FIFO, not a regular file"
+expect_exit 2 "a FIFO as view's --catch-up, refused before the window" -- timeout 20 "$SCULPT" view "$work/squeeze.toml" --catch-up "$work/fifo.lcmlog"
+one_line_error "view names the FIFO as no durable log" "--catch-up $work/fifo.lcmlog: a FIFO, not the station's durable log"
 # Another program's LCM log reads cleanly and holds nothing of ours: replay used to write the
 # model unchanged with exit 0, blaming a missing session header.
 python3 -c "
@@ -815,6 +827,29 @@ refused_early "run's output.json naming a directory" "output.json $work/folder.p
   "$SCULPT" run "$work/json-folder.toml" --duration 4 --quiet --replace-log
 refused_early "replay --out naming a directory" "--out $work/folder.ply is a directory" \
   "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/folder.ply"
+# A FIFO or a device named as an output (not a log) was refused by the atomic writer only once
+# the work was done: run's summary was lost after the session, deform's after its frame. A log
+# to a FIFO held the station's start until a reader came; a log to /dev/null is a session kept
+# nowhere on purpose, and still runs.
+mkfifo "$work/out-fifo"
+sed "s|^log = .*|log = \"$work/out-fifo\"|" "$work/squeeze.toml" >"$work/log-fifo.toml"
+start_s=$(date +%s)
+refused_early "run's output.log naming a FIFO" "output.log $work/out-fifo is a FIFO, not a file to write" \
+  timeout 20 "$SCULPT" run "$work/log-fifo.toml" --duration 4 --quiet --replace-log
+refused_early "run --json naming /dev/null" "--json /dev/null is a character device, not a file to write" \
+  "$SCULPT" run "$work/squeeze.toml" --duration 4 --quiet --replace-log --json /dev/null
+(( $(date +%s) - start_s < 5 )) && ok "run refused both before the session" || bad "run ran a session before refusing a FIFO or a device"
+refused_early "deform --json naming a FIFO" "--json $work/out-fifo is a FIFO, not a file to write" \
+  timeout 20 "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --json "$work/out-fifo"
+refused_early "deform --out naming a FIFO" "--out $work/out-fifo is a FIFO, not a file to write" \
+  timeout 20 "$SCULPT" deform --model "$sphere" --contact 0,0,1.1:0,0,0.95 --out "$work/out-fifo"
+refused_early "render --out naming a FIFO" "--out $work/out-fifo is a FIFO, not a file to write" \
+  timeout 20 "$SCULPT" render "$sphere" --out "$work/out-fifo"
+refused_early "replay --record naming a FIFO" "--record $work/out-fifo is a FIFO, not a file to write" \
+  timeout 20 "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode rerun --record "$work/out-fifo"
+sed "s|^log = .*|log = \"/dev/null\"|" "$work/squeeze.toml" >"$work/log-null.toml"
+expect_exit 0 "a session logged to /dev/null runs" -- timeout 30 "$SCULPT" run "$work/log-null.toml" --duration 1 --quiet --out "$work/null-log.ply" --json "$work/null-log.json"
+[[ -s $work/null-log.ply && -s $work/null-log.json ]] && ok "a session logged to /dev/null writes its model and summary" || bad "a session logged to /dev/null lost its model or summary"
 # A folder without a model's or a picture's extension is named as a folder too, not as a format.
 mkdir -p "$work/out-folder"
 refused_early "run --out naming a directory without an extension" "--out $work/out-folder is a directory, not a file to write" \

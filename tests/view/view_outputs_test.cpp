@@ -49,7 +49,7 @@ TEST_F(ViewSession, OutputsItCannotWriteAreRefusedBeforeTheWindowOpens) {
                         out.string());
     EXPECT_EQ(viewer.wait(30s), 2) << read_text(out);
     EXPECT_NE(read_text(out).find("sculpt view: error: --catch-up " + dir_.string() +
-                                  ": a folder, not the station's durable log"),
+                                  ": a directory, not the station's durable log"),
               std::string::npos)
         << read_text(out);
   }

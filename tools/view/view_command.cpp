@@ -4,7 +4,6 @@
 // and copied into an X window (see image_window.hpp for why), at most --fps a second, from a
 // niced process with one llvmpipe thread, so that the station keeps its cores.
 #include <CLI/CLI.hpp>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -36,6 +35,7 @@
 #include "output_paths.hpp"
 #include "playback.hpp"
 #include "sculpt/base/clock.hpp"
+#include "sculpt/base/regular_file.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/logging/frame_runs.hpp"
 #include "sculpt/render/camera.hpp"
@@ -116,16 +116,19 @@ class ViewCommand final : public Command {
     if (nice(kViewerNice) == -1 && errno != 0) std::perror("view: nice");
     // A recording that cannot be read should cost nothing: said before any window opens. (The
     // catch-up log may not exist yet: the station creates it when it starts.)
-    if (!log_path_.empty() && access(log_path_.c_str(), R_OK) != 0) {
-      std::cerr << "sculpt view: error: " << log_path_ << ": cannot read: " << std::strerror(errno) << "\n";
-      return kExitFailure;
+    if (!log_path_.empty()) {
+      const std::string kind = base::non_regular_kind(log_path_);
+      if (!kind.empty() || access(log_path_.c_str(), R_OK) != 0) {
+        std::cerr << "sculpt view: error: " << log_path_
+                  << ": cannot read: " << (kind.empty() ? std::strerror(errno) : kind + ", not a regular file") << "\n";
+        return kExitFailure;
+      }
     }
     // The catch-up log may not exist yet, but a folder or a device never becomes one: said now,
     // not as a failed catch-up when the first frame is missed.
-    if (struct stat info{};
-        !catch_up_path_.empty() && stat(catch_up_path_.c_str(), &info) == 0 && !S_ISREG(info.st_mode)) {
-      std::cerr << "sculpt view: error: --catch-up " << catch_up_path_ << ": "
-                << (S_ISDIR(info.st_mode) ? "a folder" : "not a regular file")
+    if (const std::string kind = catch_up_path_.empty() ? std::string() : base::non_regular_kind(catch_up_path_);
+        !kind.empty()) {
+      std::cerr << "sculpt view: error: --catch-up " << catch_up_path_ << ": " << kind
                 << ", not the station's durable log (its output.log)\n";
       return kExitUsage;
     }
