@@ -9,6 +9,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "sculpt/hal/lcm_handle.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 
 namespace sculpt::hal {
@@ -37,6 +38,11 @@ void LcmGloveSource::start() {
     if (!owned_->good()) {
       owned_.reset();
       throw std::runtime_error("LCM glove source: cannot open LCM at '" + config_.url + "'");
+    }
+    // A tcpq instance whose server did not answer has no socket, and would never deliver.
+    if (!lcm_has_socket(*owned_)) {
+      owned_.reset();
+      throw std::runtime_error("LCM glove source: no server answered at '" + config_.url + "'");
     }
     lcm_ = owned_.get();
   }
@@ -110,7 +116,7 @@ void LcmGloveSource::handle(const void* data, std::uint32_t size) noexcept {
 
 void LcmGloveSource::run() noexcept {
   while (!stop_requested_.load(std::memory_order_acquire)) {
-    if (lcm_->handleTimeout(kHandleTimeoutMs) < 0) {
+    if (lcm_handle_within(*lcm_, kHandleTimeoutMs) < 0) {
       if (state_.exchange(SourceState::kDisconnected) != SourceState::kDisconnected) {
         counters_.disconnects.fetch_add(1, std::memory_order_relaxed);
       }

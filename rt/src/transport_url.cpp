@@ -5,6 +5,9 @@
 #include <array>
 #include <charconv>
 #include <cstdint>
+#include <string>
+
+#include "sculpt/base/regular_file.hpp"
 
 namespace sculpt::rt {
 namespace {
@@ -84,6 +87,12 @@ std::string lcm_url_problem(std::string_view url) {
   std::string problem;
   if (provider == "udpm" || provider == "mpudpm") problem = multicast_problem(network);
   if (provider == "file" && network.empty()) problem = "names no file";
+  // LCM's log-file provider opens with fopen, which waits for a FIFO's other end for ever.
+  if (provider == "file" && problem.empty()) {
+    if (const std::string kind = base::non_regular_kind(std::string(network)); !kind.empty()) {
+      problem = quote(network).append(" is ").append(kind).append(", not a log file");
+    }
+  }
   if (problem.empty()) problem = options_problem(options);
   return problem.empty() ? "" : quoted + "is not a usable LCM URL: " + problem;
 }

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <array>
@@ -241,6 +244,87 @@ TEST(LcmGloveSource, BadUrlThrowsNamingItAndRestartWorks) {
   owned.start();
   EXPECT_EQ(owned.state(), SourceState::kConnected);
   owned.stop();
+}
+
+// A listening socket on a free loopback port, for a tcpq server played by the test.
+class LoopbackListener {
+ public:
+  LoopbackListener() : fd_(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    if (fd_ < 0 || ::bind(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 || ::listen(fd_, 1) != 0 ||
+        ::getsockname(fd_, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+      throw std::runtime_error("cannot listen on loopback");
+    }
+    port_ = ntohs(address.sin_port);
+  }
+  ~LoopbackListener() { close(); }
+  LoopbackListener(const LoopbackListener&) = delete;
+  LoopbackListener& operator=(const LoopbackListener&) = delete;
+  int fd() const { return fd_; }
+  std::string url() const { return "tcpq://127.0.0.1:" + std::to_string(port_); }
+  void close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+
+ private:
+  int fd_;
+  std::uint16_t port_ = 0;
+};
+
+// liblcm 1.3.1's tcpq instance has no socket while its server is unreachable, and handleTimeout
+// then hands -1 to FD_SET, which aborts the process: `sculpt run --lcm tcpq://...` with no server
+// died with "bit out of range". No server: start() says so. A server that answers and then hangs
+// up: the source reports the glove disconnected and keeps running, and stop() returns.
+TEST(LcmGloveSource, ATcpqServerMissingOrGoneIsAnErrorNotAnAbort) {
+  LcmConfig config;
+  {
+    LoopbackListener free_port;
+    config.url = free_port.url();
+  }  // closed: nothing listens there now
+  LcmGloveSource unanswered(config, 8);
+  try {
+    unanswered.start();
+    ADD_FAILURE() << "start() should have thrown";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "LCM glove source: no server answered at '" + config.url + "'");
+  }
+  EXPECT_EQ(unanswered.state(), SourceState::kStopped);
+
+  // The server's side of LCM's tcpq handshake: the client's magic and version in, the server's
+  // out (big-endian words), then the client's subscription, then it hangs up.
+  LoopbackListener server;
+  config.url = server.url();
+  std::thread serve([&server] {
+    const int client = ::accept(server.fd(), nullptr, nullptr);
+    if (client < 0) return;
+    std::array<std::uint8_t, 8> hello{};
+    if (::recv(client, hello.data(), hello.size(), MSG_WAITALL) == static_cast<ssize_t>(hello.size())) {
+      const std::array<std::uint8_t, 8> answer = {0x28, 0x76, 0x17, 0xfa, 0x00, 0x00, 0x01, 0x00};
+      (void)::send(client, answer.data(), answer.size(), MSG_NOSIGNAL);
+      std::array<std::uint8_t, 64> subscription{};
+      (void)::recv(client, subscription.data(), subscription.size(), 0);
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    ::close(client);
+  });
+  LcmGloveSource source(config, 8);
+  source.start();
+  serve.join();
+  server.close();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (source.counters().disconnects == 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(source.counters().disconnects, 1u);
+  // Still running, through several back-offs, on an instance with no socket.
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(source.state(), SourceState::kDisconnected);
+  source.stop();
+  EXPECT_EQ(source.state(), SourceState::kStopped);
 }
 
 // The station's transport: UDP multicast on loopback (ttl=0). Multicast drops bursts here, so

@@ -32,6 +32,9 @@ TEST(LcmUrl, EachRefusalSaysWhatIsWrong) {
       {"udpm://239.255.76.67:7667?ttl", "option 'ttl' is not key=value"},
       {"udpm://239.255.76.67:7667?recv_buf_size=-1", "recv_buf_size '-1' is not a positive byte count"},
       {"file://?mode=r", "names no file"},
+      // LCM's provider would wait on a FIFO (or read a folder) for ever.
+      {"file:///tmp?mode=r", "'/tmp' is a directory, not a log file"},
+      {"file:///dev/zero", "'/dev/zero' is a character device, not a log file"},
   };
   for (const auto& [url, expected] : cases) {
     const std::string problem = lcm_url_problem(url);

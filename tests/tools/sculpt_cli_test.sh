@@ -827,11 +827,18 @@ refused_early "run's output.json naming a directory" "output.json $work/folder.p
   "$SCULPT" run "$work/json-folder.toml" --duration 4 --quiet --replace-log
 refused_early "replay --out naming a directory" "--out $work/folder.ply is a directory" \
   "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --out "$work/folder.ply"
+mkfifo "$work/out-fifo"
+# liblcm's tcpq with no server aborted the station (FD_SET on -1), and its file provider waited
+# on a FIFO for ever. (liblcm prints its own lines about the refused connection.)
+sed "s|^log = .*|log = \"$work/tcpq.lcmlog\"|" "$work/squeeze.toml" >"$work/tcpq.toml"
+expect_exit 1 "run --lcm tcpq with no server, an error not an abort" -- timeout 20 "$SCULPT" run "$work/tcpq.toml" --lcm tcpq://127.0.0.1:1 --duration 2 --quiet --out "$work/tcpq.ply" --json "$work/tcpq.json"
+grep -q "sculpt run: error: LCM glove source: no server answered at 'tcpq://127.0.0.1:1'" "$work/err" && ok "run names the tcpq server that did not answer" || bad "tcpq: $(head -c 300 "$work/err")"
+refused_early "run --lcm naming a FIFO as its log file" "'$work/out-fifo' is a FIFO, not a log file" \
+  timeout 20 "$SCULPT" run "$work/tcpq.toml" --lcm "file://$work/out-fifo" --duration 2 --quiet
 # A FIFO or a device named as an output (not a log) was refused by the atomic writer only once
 # the work was done: run's summary was lost after the session, deform's after its frame. A log
 # to a FIFO held the station's start until a reader came; a log to /dev/null is a session kept
 # nowhere on purpose, and still runs.
-mkfifo "$work/out-fifo"
 sed "s|^log = .*|log = \"$work/out-fifo\"|" "$work/squeeze.toml" >"$work/log-fifo.toml"
 start_s=$(date +%s)
 refused_early "run's output.log naming a FIFO" "output.log $work/out-fifo is a FIFO, not a file to write" \

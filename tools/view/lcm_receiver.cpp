@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "sculpt/hal/lcm_handle.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
 #include "sculpt_lcm/fingertip_state_t.hpp"
@@ -19,6 +20,7 @@ constexpr int kHandleTimeoutMs = 50;
 
 LcmReceiver::LcmReceiver(const std::string& url) : lcm_(std::make_unique<lcm::LCM>(url)) {
   if (!lcm_->good()) throw std::runtime_error("cannot start LCM on '" + url + "'");
+  if (!hal::lcm_has_socket(*lcm_)) throw std::runtime_error("no LCM server answered at '" + url + "'");
   lcm_->subscribeFunction<sculpt_lcm::collision_event_t, LcmReceiver*>(
       logging::kCollisionChannel,
       [](const lcm::ReceiveBuffer*, const std::string&, const sculpt_lcm::collision_event_t* m, LcmReceiver* self) {
@@ -53,7 +55,7 @@ LcmReceiver::~LcmReceiver() {
 
 void LcmReceiver::receive() {
   while (!stop_) {
-    if (lcm_->handleTimeout(kHandleTimeoutMs) < 0) return;
+    if (hal::lcm_handle_within(*lcm_, kHandleTimeoutMs) < 0) return;
   }
 }
 

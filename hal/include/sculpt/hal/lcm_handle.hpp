@@ -1,0 +1,21 @@
+#pragma once
+// Waiting for LCM messages without liblcm 1.3.1's abort: handleTimeout selects on the instance's
+// socket, and the tcpq provider has none (-1) while its server is unreachable or after it hung
+// up; FD_SET(-1) then ends the process (glibc's fortified FD_SET: "bit out of range"). A station
+// started with a tcpq URL and no server, or whose server went away, died that way.
+
+namespace lcm {
+class LCM;
+}  // namespace lcm
+
+namespace sculpt::hal {
+
+/// Whether `lcm` has a socket to wait on (false for a tcpq instance not connected to its server).
+bool lcm_has_socket(lcm::LCM& lcm) noexcept;
+
+/// lcm.handleTimeout(timeout_ms), or -1 (as handleTimeout reports an error) when the instance
+/// has no socket to wait on. A tcpq instance is not reconnected: its reader reports it
+/// disconnected, and the station's glove goes stale.
+int lcm_handle_within(lcm::LCM& lcm, int timeout_ms) noexcept;
+
+}  // namespace sculpt::hal
