@@ -276,11 +276,8 @@ class ReplayCommand final : public Command {
       inputs.push_back({"the scene (--scene)", scene_path_});
       inputs.push_back({"the scene's base model", rt::load_scene(scene_path_).model.path});
     }
-    const std::vector<NamedPath> outputs = {{"--out", out_path_},
-                                            {"--json", json_path_},
-                                            { "--record",
-                                              record_path_,
-                                              true }};
+    const NamedPath record{"--record", record_path_, /*device_allowed=*/true};  // a log may go to /dev/null
+    const std::vector<NamedPath> outputs = {{"--out", out_path_}, {"--json", json_path_}, record};
     check_outputs(outputs, inputs);
     if (!record_path_.empty() && !replace_log_) refuse_overwriting_log({"--record", record_path_}, "--replace-log");
   }

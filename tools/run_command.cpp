@@ -107,7 +107,8 @@ class RunCommand final : public Command {
       const std::string json_name = !json_path_.empty() ? "--json" : "output.json";
       if (!out.empty()) refuse_unwritable_model_format(out_name, out);
       const std::vector<NamedPath> inputs = {{"the scene", scene_path_}, {"the scene's base model", scene.model.path}};
-      const std::vector<NamedPath> outputs = {{out_name, out}, {json_name, json}, {"output.log", log, true}};
+      const std::vector<NamedPath> outputs = {
+          {out_name, out}, {json_name, json}, {"output.log", log, /*device_allowed=*/true}};
       check_outputs(outputs, inputs);  // else found only once the session is over, its model lost
       if (!replace_log_) refuse_overwriting_log({scene_path_ + ": output.log", log}, "--replace-log");
       if (json == "-") reserve_stdout_for_json();
