@@ -905,6 +905,15 @@ refused_early "check --json naming a directory" "--json $work/folder.ply is a di
   "$SCULPT" check --case slide --json "$work/folder.ply"
 refused_early "check --json over its scan" "is the scan (--model)" \
   "$SCULPT" check --case slide --model "$work/model-copy.ply" --json "$work/model-copy.ply"
+# A scan that reads but has no length scale was named by its problem alone.
+python3 -c "
+import sys
+with open(sys.argv[1], 'w') as f:
+    f.write('ply\nformat ascii 1.0\nelement vertex 50\nproperty float x\nproperty float y\nproperty float z\nend_header\n')
+    f.write('1 1 1\n' * 50)
+" "$work/one-place.ply"
+expect_exit 1 "check --model whose points all coincide" -- "$SCULPT" check --case pushes --model "$work/one-place.ply"
+one_line_error "check names the scan with no length scale" "^sculpt check: error: $work/one-place.ply: the model's points all coincide"
 refused_early "generate --out with an unknown format" "--out $work/g.obj: cannot write models with that extension" \
   "$SCULPT" generate sphere --out "$work/g.obj"
 refused_early "generate --out under a file" "$work/plain-file is not a directory" \
