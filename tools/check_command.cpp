@@ -135,11 +135,8 @@ class CheckCommand final : public Command {
     std::vector<check::CaseSpec> cases;
     try {
       cases = check::make_cases({quick_, scan_path_});
-    } catch (const std::exception& e) {
-      // Only the scan can fail here (the other cases are built in): an unreadable --model names
-      // itself, one that reads but has no length scale (all points at one place) did not.
-      const std::string what = e.what();
-      std::cerr << "sculpt check: error: " << (what.rfind(scan_path_, 0) == 0 ? "" : scan_path_ + ": ") << what << "\n";
+    } catch (const std::exception& e) {  // the scan: unreadable, or with no length scale (both named)
+      std::cerr << "sculpt check: error: " << e.what() << "\n";
       return kExitFailure;
     }
     // Only the cases --case names run, and only they are counted: a filter that matched nothing

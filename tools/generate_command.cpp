@@ -53,7 +53,7 @@ class GenerateCommand final : public Command {
       refuse_unused_options();
       // Up to a hundred million points are made before anything is written: a name or a folder
       // that cannot take them is found first.
-      refuse_unwritable_output({"--out", out_});  // a folder is named as one, whatever its extension
+      refuse_unwritable_output({"--out", out_});
       refuse_unwritable_model_format("--out", out_);
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt generate: error: " << e.what() << "\n";

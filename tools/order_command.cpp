@@ -29,7 +29,7 @@ class OrderCommand final : public Command {
   int run() override {
     // --out may replace the model (it is written atomically): the same surface, reordered.
     try {
-      refuse_unwritable_output({"--out", out_});  // a folder is named as one, whatever its extension
+      refuse_unwritable_output({"--out", out_});
       refuse_unwritable_model_format("--out", out_);
     } catch (const std::invalid_argument& e) {
       std::cerr << "sculpt order: error: " << e.what() << "\n";

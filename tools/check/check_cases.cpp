@@ -4,11 +4,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <stdexcept>
 
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/model_io.hpp"
+#include "sculpt/deform/model_scale.hpp"
 #include "sculpt/deform/normal_check.hpp"
 #include "sculpt/deform/normals.hpp"
+#include "sculpt/deform/point_index.hpp"
 
 namespace sculpt::tools::check {
 namespace {
@@ -394,6 +397,11 @@ std::vector<CaseSpec> make_cases(const SweepOptions& options) {
     bust.skipped = options.scan_path + " not found (scripts/fetch_scans.sh)";
   } else {
     deform::PointModel scan = deform::read_model(options.scan_path);
+    try {  // a scan with no length scale (every point at one place) is a problem of the file, named
+      (void)deform::typical_spacing(scan, deform::PointIndex(scan));
+    } catch (const std::invalid_argument& e) {
+      throw deform::ModelFileError(options.scan_path, "", e.what());
+    }
     deform::check_normals(scan, deform::NormalPolicy::kReestimate, options.scan_path);
     deform::ensure_normals(scan);  // the deformer needs normals; the oracle never reads them
     // This export is a hollow shell: an inner wall about 0.06 inside the outer one, wound
