@@ -182,8 +182,8 @@ class RunCommand final : public Command {
 
     std::unique_ptr<rt::SessionRecorder> recorder = rt::make_session_recorder(scene, rt::session_header(scene, setup));
     station->set_recorder(recorder.get());
+    station->start();  // first: a glove that fails to start leaves an earlier log (--replace-log) whole
     if (recorder) recorder->start();
-    station->start();
     rt::FixedRateLoop loop(scene.loop.rate_hz);
     rt::LiveStatus live;
     std::atomic<bool> status_done{false};

@@ -64,18 +64,33 @@ DurableLog::DurableLog(DurableLogConfig config)
   }
   lock_writer();
   event_ = std::make_unique<lcm::LogEvent>();
+}
+
+DurableLog::~DurableLog() { stop(); }  // stop() closes the file and releases the lock
+
+void DurableLog::open_file() {
+  if (file_ != nullptr) return;
   errno = 0;
-  file_ = std::make_unique<lcm::LogFile>(config_.path, "w");
+  file_ = std::make_unique<lcm::LogFile>(config_.path, "w");  // replaces an earlier log here, not before
   if (!file_->good()) {
     const int saved = errno;
     file_.reset();
-    release_writer_lock();
     throw std::runtime_error("DurableLog: cannot open '" + config_.path + "' for writing" +
                              (saved != 0 ? std::string(": ") + std::strerror(saved) : std::string()));
   }
 }
 
-DurableLog::~DurableLog() { stop(); }  // stop() closes the file and releases the lock
+bool DurableLog::open_file_for_queued() noexcept {
+  if (file_ != nullptr) return true;
+  if (queue_.empty()) return false;
+  try {
+    open_file();
+    return true;
+  } catch (...) {
+    write_errors_.fetch_add(1, std::memory_order_relaxed);  // the queued records stay unwritten
+    return false;
+  }
+}
 
 void DurableLog::lock_writer() {
   // One writer per log, for as long as it writes: two sessions started on the same log (a scene
@@ -94,7 +109,14 @@ void DurableLog::lock_writer() {
     refuse_kind(kind);
   }
   // O_NONBLOCK: a FIFO made after the check fails the open at once instead of waiting.
-  lock_fd_ = ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK, 0644);
+  // O_EXCL first, to know whether the file is this session's own (a session that never starts
+  // removes it again) or an earlier log (left as it was until this session starts).
+  lock_fd_ = ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NONBLOCK, 0644);
+  created_file_ = lock_fd_ >= 0;
+  if (lock_fd_ < 0 && errno == EEXIST) {
+    lock_fd_ =
+        ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK, 0644);  // a dangling link: its target
+  }
   if (lock_fd_ < 0) {
     throw std::runtime_error("DurableLog: cannot open '" + config_.path + "' for writing: " + std::strerror(errno));
   }
@@ -125,11 +147,12 @@ void DurableLog::release_writer_lock() noexcept {
 }
 
 void DurableLog::write_session_header(const sculpt_lcm::session_header_t& header) {
-  if (thread_.joinable() || event_number_ != 0 || file_ == nullptr) {
+  if (thread_.joinable() || event_number_ != 0 || closed_.load(std::memory_order_acquire)) {
     throw std::logic_error("DurableLog: '" + config_.path +
                            "': the session header must be its first event, "
                            "written before start()");
   }
+  open_file();
   const int size = header.getEncodedSize();
   std::vector<unsigned char> buffer(static_cast<std::size_t>(std::max(size, 0)));
   if (size <= 0 || header.encode(buffer.data(), 0, size) != size) {
@@ -155,6 +178,7 @@ void DurableLog::start() {
   if (closed_.load(std::memory_order_acquire)) {
     throw std::runtime_error("DurableLog: '" + config_.path + "' was stopped and is closed");
   }
+  open_file();
   stop_requested_.store(false, std::memory_order_relaxed);
   thread_ = std::thread([this] { run(); });
 }
@@ -165,6 +189,15 @@ void DurableLog::stop() {
     thread_.join();  // the thread drains the queue before it returns
   }
   if (closed_.exchange(true, std::memory_order_acq_rel)) return;
+  if (file_ == nullptr && !open_file_for_queued()) {
+    // Never opened and nothing to write: a session that did not start. An earlier log at the
+    // path stays as it was (--replace-log replaces it only once the station runs); a file this
+    // log created for its lock goes again.
+    if (created_file_) ::unlink(config_.path.c_str());
+    release_writer_lock();
+    flushes_served_.store(UINT64_MAX, std::memory_order_release);
+    return;
+  }
   // Never started, or records slipped in after the thread's last drain: written here.
   while (drain(queue_.capacity()) > 0) {
   }
@@ -213,7 +246,7 @@ DurableLog::Counters DurableLog::counters() const noexcept {
 void DurableLog::flush_now() {
   if (!thread_.joinable()) {
     // No thread owns the file: do the work here (after stop() there is nothing left to do).
-    if (closed_.load(std::memory_order_acquire)) return;
+    if (closed_.load(std::memory_order_acquire) || !open_file_for_queued()) return;
     while (drain(queue_.capacity()) > 0) {
     }
     flush(true);

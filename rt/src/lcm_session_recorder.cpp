@@ -21,7 +21,7 @@ LcmSessionRecorder::LcmSessionRecorder(const Scene& scene, const std::optional<S
     config.path = *scene.output.log;
     config.flush_interval = std::chrono::milliseconds(static_cast<long>(scene.output.flush_interval_ms));
     log_ = std::make_unique<logging::DurableLog>(config);
-    if (header) log_->write_session_header(to_lcm(*header, logging::wall_time_us()));
+    header_ = header;
   }
   if (scene.lcm.publish) {
     logging::PublisherConfig config;
@@ -31,6 +31,7 @@ LcmSessionRecorder::LcmSessionRecorder(const Scene& scene, const std::optional<S
 }
 
 void LcmSessionRecorder::start() {
+  if (log_ && header_) log_->write_session_header(to_lcm(*header_, logging::wall_time_us()));
   if (log_) log_->start();
   if (publisher_) publisher_->start();
 }

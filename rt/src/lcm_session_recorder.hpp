@@ -3,6 +3,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 
 #include "sculpt/logging/durable_log.hpp"
 #include "sculpt/logging/lcm_publisher.hpp"
@@ -13,7 +14,7 @@ namespace sculpt::rt {
 
 class LcmSessionRecorder final : public SessionRecorder {
  public:
-  /// Writes `header` (when given) as the log's first event.
+  /// Takes the log's writer lock; start() writes `header` (when given) as the log's first event.
   LcmSessionRecorder(const Scene& scene, const std::optional<SessionHeader>& header);
 
   void start() override;
@@ -31,6 +32,7 @@ class LcmSessionRecorder final : public SessionRecorder {
 
  private:
   std::unique_ptr<logging::DurableLog> log_;
+  std::optional<SessionHeader> header_;  // written by start(), when the session begins
   std::unique_ptr<logging::LcmPublisher> publisher_;
   TickLogFilter log_ticks_;  // which ticks the durable log keeps (the live channel gets all)
   std::array<logging::CollisionRecord, deform::kMaxSources> collisions_{};  // one frame's, reused

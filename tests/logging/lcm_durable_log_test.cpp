@@ -448,8 +448,53 @@ TEST(DurableLog, ASecondWriterIsRefusedAndTheFirstSessionsLogStaysAsItWas) {
     EXPECT_EQ(reader.corrupt_events(), 0u);
   }
   DurableLog next(config);  // stopped: the lock is released, and a new session replaces the log
+  next.start();
   next.stop();
   EXPECT_EQ(std::filesystem::file_size(config.path), 0u);
+}
+
+// The file used to be opened, truncating an earlier log, when the log was made, before the
+// station's glove started: a glove that failed to start cost the session `--replace-log` was
+// about to replace, and left a header-only log behind. Until the header or start() the path is
+// locked but untouched; a log that never opened removes the file it made for its lock.
+TEST(DurableLog, AnEarlierLogStaysUntilTheNewSessionOpensIt) {
+  DurableLogConfig config;
+  config.path = temp_path("earlier.lcmlog");
+  std::filesystem::create_directories(std::filesystem::path(config.path).parent_path());
+  std::ofstream(config.path, std::ios::binary) << "an earlier session";
+  {
+    DurableLog unstarted(config);
+    EXPECT_THROW(DurableLog{config}, std::runtime_error) << "the path is locked from the start";
+    EXPECT_EQ(file_bytes(config.path), "an earlier session");
+    unstarted.flush_now();  // nothing queued: nothing to open
+    EXPECT_EQ(file_bytes(config.path), "an earlier session");
+  }  // stopped without a start
+  EXPECT_EQ(file_bytes(config.path), "an earlier session");
+
+  {
+    DurableLog replacing(config);
+    sculpt_lcm::session_header_t header{};
+    header.schema = sculpt_lcm::session_header_t::SCHEMA;
+    replacing.write_session_header(header);  // the session begins: the earlier log goes
+    EventLogReader reader(config.path);
+    LogEvent event;
+    ASSERT_EQ(reader.next(event), EventLogReader::Result::kEvent);
+    EXPECT_EQ(event.channel, kSessionChannel);
+    EXPECT_EQ(reader.next(event), EventLogReader::Result::kEnd);
+  }
+
+  config.path = temp_path("never-started.lcmlog");
+  { DurableLog never(config); }
+  EXPECT_FALSE(std::filesystem::exists(config.path)) << "a session that never started left a file";
+  {
+    DurableLog queued(config);  // records queued without a thread are written at stop
+    record_ticks(queued, 0, 3);
+  }
+  EventLogReader reader(config.path);
+  LogEvent event;
+  int ticks = 0;
+  while (reader.next(event) == EventLogReader::Result::kEvent) ++ticks;
+  EXPECT_EQ(ticks, 3);
 }
 
 // lcm-logplayer replays the file onto loopback multicast; a raw subscriber counts what arrives.

@@ -833,6 +833,12 @@ mkfifo "$work/out-fifo"
 sed "s|^log = .*|log = \"$work/tcpq.lcmlog\"|" "$work/squeeze.toml" >"$work/tcpq.toml"
 expect_exit 1 "run --lcm tcpq with no server, an error not an abort" -- timeout 20 "$SCULPT" run "$work/tcpq.toml" --lcm tcpq://127.0.0.1:1 --duration 2 --quiet --out "$work/tcpq.ply" --json "$work/tcpq.json"
 grep -q "sculpt run: error: LCM glove source: no server answered at 'tcpq://127.0.0.1:1'" "$work/err" && ok "run names the tcpq server that did not answer" || bad "tcpq: $(head -c 300 "$work/err")"
+# The log was opened (and an earlier one truncated) before the glove started: a station that
+# failed to start left a header-only log, and with --replace-log lost the session it replaced.
+[[ ! -e "$work/tcpq.lcmlog" ]] && ok "a station that did not start leaves no log" || bad "a header-only log was left by a station that never ran"
+cp "$work/sphere-squeeze.lcmlog" "$work/tcpq.lcmlog"
+expect_exit 1 "run --replace-log whose glove fails to start" -- timeout 20 "$SCULPT" run "$work/tcpq.toml" --lcm tcpq://127.0.0.1:1 --duration 2 --quiet --replace-log
+cmp -s "$work/sphere-squeeze.lcmlog" "$work/tcpq.lcmlog" && ok "a failed start keeps the log --replace-log would have replaced" || bad "a failed start truncated the earlier log"
 refused_early "run --lcm naming a FIFO as its log file" "'$work/out-fifo' is a FIFO, not a log file" \
   timeout 20 "$SCULPT" run "$work/tcpq.toml" --lcm "file://$work/out-fifo" --duration 2 --quiet
 # A FIFO or a device named as an output (not a log) was refused by the atomic writer only once

@@ -43,6 +43,9 @@ class SpscQueue {
     return true;
   }
 
+  /// Consumer side: nothing to pop now.
+  bool empty() const noexcept { return tail_.load(std::memory_order_relaxed) == head_.load(std::memory_order_acquire); }
+
   std::size_t capacity() const noexcept { return mask_ + 1; }
 
  private:

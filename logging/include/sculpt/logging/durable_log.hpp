@@ -65,8 +65,11 @@ class DurableLog {
     std::uint64_t dropped() const noexcept;
   };
 
-  /// Creates the parent folders, takes the log's writer lock, opens the file for writing and
-  /// reserves the queue. The lock is held until stop() has closed the file.
+  /// Creates the parent folders, takes the log's writer lock and reserves the queue. The lock
+  /// is held until stop() has closed the file. The file itself is opened, and an earlier log at
+  /// the path replaced, only by write_session_header() or start() (or by stop() and flush_now()
+  /// when records are queued): a session that fails before it starts (its glove missing) leaves
+  /// an earlier log as it was, and no file where there was none.
   /// @throw std::runtime_error naming the path when the folder or file cannot be created, or
   /// when another DurableLog (in any process) is writing it; that log is then left untouched.
   explicit DurableLog(DurableLogConfig config);
@@ -75,14 +78,16 @@ class DurableLog {
   DurableLog(const DurableLog&) = delete;
   DurableLog& operator=(const DurableLog&) = delete;
 
-  /// Writes the session header as the log's first event, on the calling thread, and pushes it
-  /// to the disk: set-up time, before start() (it may allocate: its scene text has no bound).
-  /// @throw std::logic_error when the thread was started or an event is already written;
-  /// std::runtime_error naming the path when it cannot be encoded or written.
+  /// Opens the file, writes the session header as the log's first event, on the calling
+  /// thread, and pushes it to the disk: set-up time, before start() (it may allocate: its scene
+  /// text has no bound).
+  /// @throw std::logic_error when the thread was started, the log stopped or an event is already
+  /// written; std::runtime_error naming the path when it cannot be opened, encoded or written.
   void write_session_header(const sculpt_lcm::session_header_t& header);
 
-  /// Starts the writer thread.
-  /// @throw std::runtime_error when already started or already stopped (the file is closed).
+  /// Opens the file (unless the header did) and starts the writer thread.
+  /// @throw std::runtime_error when already started or already stopped (the file is closed), or
+  /// naming the path when the file cannot be opened.
   void start();
   /// Writes everything still queued, flushes, syncs and closes the file, then stops the
   /// thread. Works whether or not start() was called. Idempotent. The loop must have stopped
@@ -130,11 +135,17 @@ class DurableLog {
   void close() noexcept;
   // Opens the log and takes its writer lock (flock), or throws naming the path.
   void lock_writer();
+  // Opens file_ for writing (truncating the path), unless open; throws naming the path.
+  void open_file();
+  // For stop() and flush_now(): opens file_ when records wait to be written; false when it stays
+  // closed (nothing queued, or the open failed: counted as a write error).
+  bool open_file_for_queued() noexcept;
   void release_writer_lock() noexcept;
 
   DurableLogConfig config_;
   std::unique_ptr<lcm::LogFile> file_;  // owned by the thread while it runs
   int lock_fd_ = -1;                    // holds the writer lock until the file is closed
+  bool created_file_ = false;           // the path held no file before this log
   base::SpscQueue<Entry> queue_;
   std::array<std::string, kLogKinds> channels_;  // made once so writes need not build names
   std::unique_ptr<lcm::LogEvent> event_;         // reused by every write, like its channel string

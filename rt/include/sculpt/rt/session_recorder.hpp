@@ -28,7 +28,8 @@ struct RecordingCounts {
 
 class SessionRecorder : public StationRecorder {
  public:
-  /// Starts the writer threads. Throws when the log cannot be created.
+  /// Opens the log (replacing an earlier one at its path), writes and syncs its header, and
+  /// starts the writer threads. Throws when the log cannot be written.
   virtual void start() = 0;
   /// Drains, flushes and closes: nothing queued is lost. Idempotent.
   virtual void stop() = 0;
@@ -37,10 +38,11 @@ class SessionRecorder : public StationRecorder {
   virtual RecordingCounts counts() const = 0;
 };
 
-/// nullptr when the scene names neither a log nor live publishing. With a `header`, the log's
-/// first event is that header, written and synced before this returns (the loop has not
-/// started). Throws std::runtime_error with a clear message when the scene asks for a log or
-/// publishing and this build has no LCM, and whatever the log's or the publisher's set-up throws.
+/// nullptr when the scene names neither a log nor live publishing. The log's path is locked
+/// here but left as it was until start(), which writes `header` (when given) as its first event:
+/// a station whose glove fails to start, between the two, keeps an earlier log. Throws
+/// std::runtime_error with a clear message when the scene asks for a log or publishing and this
+/// build has no LCM, and whatever the log's or the publisher's set-up throws.
 std::unique_ptr<SessionRecorder> make_session_recorder(const Scene& scene,
                                                        const std::optional<SessionHeader>& header = std::nullopt);
 
