@@ -32,6 +32,7 @@
 #include "sculpt/logging/event_log_walk.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/logging/records.hpp"
+#include "sculpt/logging/taken_ticks.hpp"
 #include "sculpt/rt/lcm_session_header.hpp"
 #include "sculpt/rt/log_edit.hpp"
 #include "sculpt/rt/reduced_model.hpp"
@@ -60,6 +61,7 @@ struct SessionLog {
   std::vector<logging::CollisionRecord> collisions;
   std::vector<std::uint64_t> collision_offsets;  // byte offset of each collision event
   std::vector<hal::GloveSample> samples;
+  logging::TakenTicks taken;  // which live tick took each sample
   std::size_t events = 0;
   std::size_t sculpt_events = 0;  // on glovesculpt's channels (SCULPT_...)
   std::string other_channel;      // the first channel that is not one of them
@@ -88,6 +90,7 @@ SessionLog read_session(const std::string& path) {
   SessionLog log;
   const auto damaged = [&](std::uint64_t offset, std::string what) {
     log.damage.push_back({offset, std::move(what), log.collisions.size(), log.events});
+    log.taken.damage();
   };
   // One valid event: true when it is one replay can use (or ignores by its channel), false
   // (and reported as damage) when it does not decode.
@@ -132,7 +135,9 @@ SessionLog read_session(const std::string& path) {
       }
       sample.receive_time_ns = message.utime * 1000;  // the log's time base
       log.samples.push_back(sample);
+      log.taken.sample();
     }
+    log.taken.event(event.channel);
     return true;
   };
   const logging::EventLogTotals totals = logging::for_each_event(
@@ -618,7 +623,9 @@ class ReplayCommand final : public Command {
     if (bad_normals_.given()) scene.model.bad_normals = bad_normals_.policy();
     scene.heuristic.reduced_ratio = 1.0;  // the re-run is on the model given, whole
     rt::StationSetup setup = rt::prepare_station(scene);
-    auto source = std::make_unique<rt::ReplayGloveSource>(log.samples);
+    // A station's log (it has a header) says which of its ticks took each sample.
+    auto source = std::make_unique<rt::ReplayGloveSource>(
+        rt::SampleLog{log.samples, log.header ? log.taken.finish() : std::vector<std::int64_t> {}});
     rt::ReplayGloveSource* replay = source.get();
     rt::Station station(setup.model, setup.settings, std::move(source), nullptr);
     std::unique_ptr<rt::SessionRecorder> recorder;
@@ -645,7 +652,7 @@ class ReplayCommand final : public Command {
     station.set_region_schedule(radii);
     const auto period = static_cast<std::int64_t>(1e9 / setup.settings.rate_hz);
     const std::int64_t first = replay->first_time_ns(), last = replay->last_time_ns();
-    const std::int64_t end = last + static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9) + 2 * period;
+    std::int64_t end = last + static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9) + 2 * period;
     const std::size_t total = static_cast<std::size_t>((end - first) / period + 1);
     std::size_t done = 0;
     ProgressLine progress("re-run");
@@ -654,6 +661,7 @@ class ReplayCommand final : public Command {
       replay->set_now(t);
       const rt::TickReport& report = station.tick(t, period);
       if (recorder) recorder->tick(report, 0, 0, 0.0);
+      if (t + period > end && !replay->finished()) end += period;  // live ticks held back a tick each
       if (++done % 1000 == 0 || t + period > end) progress.show(done, total);
     }
     progress.end();

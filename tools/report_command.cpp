@@ -79,7 +79,7 @@ class ReportCommand final : public Command {
     std::optional<report::LoggedSession> logged;
     if (!is_scene) logged = report::read_logged_session(session_path_);
     rt::Scene scene = is_scene ? rt::load_scene(session_path_) : logged->scene;
-    const std::vector<hal::GloveSample>* samples = logged ? &logged->samples : nullptr;
+    const rt::SampleLog* samples = logged ? &logged->samples : nullptr;
     if (!model_path_.empty()) scene.model.path = model_path_;
     scene.heuristic.reduced_ratio = 1.0;  // the exact session is on the whole model
     std::filesystem::create_directories(out_dir_);

@@ -115,9 +115,9 @@ std::vector<Row> per_frame_rows(const RecordedSession& session, ExactState& exac
   return rows;
 }
 
-std::vector<Row> session_rows(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,
-                              const RecordedSession& full, const ExactState& exact_end,
-                              const std::vector<double>& ratios, const Progress& progress) {
+std::vector<Row> session_rows(const rt::Scene& scene, const rt::SampleLog* samples, const RecordedSession& full,
+                              const ExactState& exact_end, const std::vector<double>& ratios,
+                              const Progress& progress) {
   const double diagonal = full.initial.bounding_box_diagonal();
   std::vector<Row> rows;
   auto judge = [&](Row& row, const deform::PointModel& result) {

@@ -26,8 +26,7 @@ std::vector<Row> per_frame_rows(const RecordedSession& session, ExactState& exac
 /// full session in float as its scene asks (`full`), and the whole session with a region of 10 and 20 spacings and
 /// with the normals left as they were, the same way. `samples` are the logged session's glove
 /// samples, or null for the scene's scripted ones. Times are the recording's frame times.
-std::vector<Row> session_rows(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,
-                              const RecordedSession& full, const ExactState& exact_end,
-                              const std::vector<double>& ratios, const Progress& progress);
+std::vector<Row> session_rows(const rt::Scene& scene, const rt::SampleLog* samples, const RecordedSession& full,
+                              const ExactState& exact_end, const std::vector<double>& ratios, const Progress& progress);
 
 }  // namespace sculpt::tools::report

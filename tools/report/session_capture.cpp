@@ -62,9 +62,10 @@ std::vector<hal::GloveSample> scripted_samples(const rt::Scene& scene) {
 
 }  // namespace
 
-RecordedSession record_session(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples) {
+RecordedSession record_session(const rt::Scene& scene, const rt::SampleLog* samples) {
   RecordedSession out;
-  auto source = std::make_unique<rt::ReplayGloveSource>(samples ? *samples : scripted_samples(scene));
+  auto source =
+      std::make_unique<rt::ReplayGloveSource>(samples ? *samples : rt::SampleLog{scripted_samples(scene), {}});
   rt::ReplayGloveSource* replay = source.get();
   rt::StationSetup setup = rt::prepare_station(scene);
   out.initial = setup.model;
@@ -74,20 +75,20 @@ RecordedSession record_session(const rt::Scene& scene, const std::vector<hal::Gl
   CaptureRecorder recorder(out);
   station.set_recorder(&recorder);
   const auto period = static_cast<std::int64_t>(1e9 / setup.settings.rate_hz);
-  const std::int64_t end =
+  std::int64_t end =
       replay->last_time_ns() + static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9) + 2 * period;
   for (std::int64_t t = replay->first_time_ns(); t <= end; t += period) {
     replay->set_now(t);
     const rt::TickReport& r = station.tick(t, period);
     if (r.frame && r.collisions > 0) out.frame_ns.push_back(r.deform_ns);
+    if (t + period > end && !replay->finished()) end += period;  // live ticks held back a tick each
   }
   out.guards = station.totals().guards;
   out.final_model = setup.model;
   return out;
 }
 
-RecordedSession record_trajectory(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,
-                                  const RecordedSession& as_run) {
+RecordedSession record_trajectory(const rt::Scene& scene, const rt::SampleLog* samples, const RecordedSession& as_run) {
   rt::Scene global = scene;
   global.heuristic.region = rt::RegionChoice::kGlobal;
   RecordedSession out = record_session(global, samples);

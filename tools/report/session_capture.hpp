@@ -9,6 +9,7 @@
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/hal/glove_sample.hpp"
 #include "sculpt/logging/records.hpp"
+#include "sculpt/rt/replay_glove_source.hpp"
 #include "sculpt/rt/scene.hpp"
 
 namespace sculpt::tools::report {
@@ -35,14 +36,13 @@ struct RecordedSession {
 /// simulated glove's script, to their end plus the glove's timeout, and returns what it did.
 /// Throws std::invalid_argument for a scene without samples of either kind, and whatever the
 /// station's set-up throws.
-RecordedSession record_session(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples = nullptr);
+RecordedSession record_session(const rt::Scene& scene, const rt::SampleLog* samples = nullptr);
 
 /// The trajectory the report measures: the session's steps taken with a global region, so that
 /// which steps apply a frame cannot depend on this machine's speed (an auto region is sized by
 /// the measured frame time, and a region can decide whether a frame folds); each step carries
 /// the radius `as_run` (the session as its scene asks) had in force at that tick, for the
 /// "region auto" row.
-RecordedSession record_trajectory(const rt::Scene& scene, const std::vector<hal::GloveSample>* samples,
-                                  const RecordedSession& as_run);
+RecordedSession record_trajectory(const rt::Scene& scene, const rt::SampleLog* samples, const RecordedSession& as_run);
 
 }  // namespace sculpt::tools::report

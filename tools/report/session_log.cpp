@@ -8,6 +8,7 @@
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt/logging/event_log_walk.hpp"
+#include "sculpt/logging/taken_ticks.hpp"
 #include "sculpt/rt/lcm_session_header.hpp"
 #endif
 
@@ -17,10 +18,12 @@ LoggedSession read_logged_session(const std::string& path) {
 #if SCULPT_HAS_LCM
   LoggedSession out;
   std::optional<rt::SessionHeader> header;
+  logging::TakenTicks taken;
   logging::for_each_event(
       path,
       [&](const logging::LogEvent& event) {
         std::string error;
+        taken.event(event.channel);
         if (event.channel == logging::kSessionChannel && !header) {
           sculpt_lcm::session_header_t message;
           rt::SessionHeader h;
@@ -28,14 +31,19 @@ LoggedSession read_logged_session(const std::string& path) {
         } else if (event.channel == logging::kGloveChannel) {
           sculpt_lcm::glove_sample_t message;
           hal::GloveSample sample;
-          if (!logging::decode(event, message, error) || !hal::from_lcm(message, sample)) return;
+          if (!logging::decode(event, message, error) || !hal::from_lcm(message, sample)) {
+            taken.damage();
+            return;
+          }
           sample.receive_time_ns = message.utime * 1000;  // the log's time base, as sculpt replay reads it
-          out.samples.push_back(sample);
+          out.samples.samples.push_back(sample);
+          taken.sample();
         }
       },
-      [](std::uint64_t, const std::string&) {});
+      [&](std::uint64_t, const std::string&) { taken.damage(); });
   if (!header) throw std::invalid_argument(path + ": no session header (is it a log written by sculpt run?)");
-  if (out.samples.empty()) throw std::invalid_argument(path + ": no glove samples to re-run");
+  if (out.samples.samples.empty()) throw std::invalid_argument(path + ": no glove samples to re-run");
+  out.samples.taken = taken.finish();
   const std::filesystem::path scene_path(header->scene_path);
   out.scene = rt::parse_scene(header->scene_text, header->scene_path, scene_path.parent_path().string());
   return out;

@@ -6,13 +6,14 @@
 #include <vector>
 
 #include "sculpt/hal/glove_sample.hpp"
+#include "sculpt/rt/replay_glove_source.hpp"
 #include "sculpt/rt/scene.hpp"
 
 namespace sculpt::tools::report {
 
 struct LoggedSession {
-  rt::Scene scene;                        ///< parsed from the header's scene text
-  std::vector<hal::GloveSample> samples;  ///< stamped with the log's time base
+  rt::Scene scene;        ///< parsed from the header's scene text
+  rt::SampleLog samples;  ///< stamped with the log's time base, and which live tick took each
 };
 
 /// Reads the log at `path`. Relative paths in the scene resolve against the directory of the
