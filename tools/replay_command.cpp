@@ -133,7 +133,11 @@ SessionLog read_session(const std::string& path) {
         damaged(event.offset, where + "SCULPT_GLOVE event with invalid fields");
         return false;
       }
-      sample.receive_time_ns = message.utime * 1000;  // the log's time base
+      if (!logging::log_time_ns(message.utime, sample.receive_time_ns)) {  // the log's time base
+        damaged(event.offset, where + "SCULPT_GLOVE event whose time (utime " + std::to_string(message.utime) +
+                                  ") is before 1970 or after 2100");
+        return false;
+      }
       log.samples.push_back(sample);
       log.taken.sample();
     }
@@ -652,17 +656,18 @@ class ReplayCommand final : public Command {
     station.set_region_schedule(radii);
     const auto period = static_cast<std::int64_t>(1e9 / setup.settings.rate_hz);
     const std::int64_t first = replay->first_time_ns(), last = replay->last_time_ns();
-    std::int64_t end = last + static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9) + 2 * period;
+    const auto timeout = static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9);
+    std::int64_t end = last + timeout + 2 * period;
     const std::size_t total = static_cast<std::size_t>((end - first) / period + 1);
     std::size_t done = 0;
     ProgressLine progress("re-run");
-    for (std::int64_t t = first; t <= end; t += period) {
+    for (std::int64_t t = first; t <= end; t = replay->next_tick_ns(t, period, timeout + 2 * period)) {
       if (until && station.next_frame_id() > *until) break;
       replay->set_now(t);
       const rt::TickReport& report = station.tick(t, period);
       if (recorder) recorder->tick(report, 0, 0, 0.0);
       if (t + period > end && !replay->finished()) end += period;  // live ticks held back a tick each
-      if (++done % 1000 == 0 || t + period > end) progress.show(done, total);
+      if (++done % 1000 == 0 || t + period > end) progress.show(static_cast<std::size_t>((t - first) / period), total);
     }
     progress.end();
     json["rerun"] = {{"ticks", station.totals().ticks},

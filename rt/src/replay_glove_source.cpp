@@ -47,6 +47,16 @@ std::size_t ReplayGloveSource::poll(std::span<hal::GloveSample> out) noexcept {
   return n;
 }
 
+std::int64_t ReplayGloveSource::next_tick_ns(std::int64_t now, std::int64_t period,
+                                             std::int64_t idle_ns) const noexcept {
+  const std::int64_t next = now + period;
+  if (next_ == 0 || finished() || period <= 0) return next;
+  const std::int64_t quiet_since = samples_[next_ - 1].receive_time_ns;
+  const std::int64_t due = due_ns_[next_];
+  if (next - quiet_since < idle_ns || due <= next) return next;
+  return next + (due - next - 1) / period * period;  // the grid's last tick before `due`
+}
+
 std::int64_t ReplayGloveSource::first_time_ns() const noexcept {
   return samples_.empty() ? 0 : samples_.front().receive_time_ns;
 }

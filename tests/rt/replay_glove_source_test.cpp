@@ -69,5 +69,38 @@ TEST(ReplayGloveSource, ACrashsUnnamedTailGoesByReceiveTimeAfterTheNamedTicks) {
   EXPECT_EQ(ticks_taken(source, 4), (Ticks{{1}, {2}, {3, 4}, {}}));
 }
 
+// Across a gap longer than the glove's timeout the quiet ticks change nothing: the clock skips
+// to the last tick before the next sample, on the same grid, so that sample is taken at the
+// virtual time it would have been without the skip.
+TEST(ReplayGloveSource, AGapsQuietTicksAreSkippedOnTheSameGrid) {
+  SampleLog log;
+  log.samples = {sample(1, 0), sample(2, 1 * kMs), sample(3, 10'000 * kMs + 300'000), sample(4, 10'001 * kMs)};
+  log.taken = {0, 1, 2, 3};
+  ReplayGloveSource source(log);
+  const std::int64_t idle = 102 * kMs;  // a 100 ms timeout and two periods
+  std::array<hal::GloveSample, 4> inbox;
+  std::vector<std::int64_t> taken_at;
+  int ticks = 0;
+  for (std::int64_t t = source.first_time_ns(); t <= source.last_time_ns() + 5 * kMs;
+       t = source.next_tick_ns(t, kMs, idle)) {
+    source.set_now(t);
+    ++ticks;
+    for (std::size_t k = 0, n = source.poll(inbox); k < n; ++k) taken_at.push_back(t);
+    ASSERT_LT(ticks, 1000) << "the gap was not skipped";
+  }
+  EXPECT_EQ(taken_at, (std::vector<std::int64_t>{0, 1 * kMs, 10'001 * kMs, 10'002 * kMs}));
+  EXPECT_LT(ticks, 115);  // the quiet 102 ms after sample 2, then the last samples' ticks and five more
+  // Until no sample has come for `idle`, no tick is skipped; then the next is the grid's last
+  // tick before the next sample is due (10,000.3 ms: the tick at 10,001 ms takes it).
+  ReplayGloveSource fresh(log);
+  for (const std::int64_t t : {std::int64_t{0}, kMs}) {
+    fresh.set_now(t);
+    ASSERT_EQ(fresh.poll(inbox), 1u);
+  }
+  EXPECT_EQ(fresh.next_tick_ns(50 * kMs, kMs, idle), 51 * kMs);
+  EXPECT_EQ(fresh.next_tick_ns(101 * kMs, kMs, idle), 102 * kMs);
+  EXPECT_EQ(fresh.next_tick_ns(102 * kMs, kMs, idle), 10'000 * kMs);
+}
+
 }  // namespace
 }  // namespace sculpt::rt

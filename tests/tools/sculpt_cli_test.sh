@@ -694,6 +694,31 @@ expect_exit 0 "replay both modes on a log with a far source" -- "$SCULPT" replay
 expect_json "the re-run stopped at the transfer's last frame, and the two agree" "j['rerun']['until_frame'] == j['transfer']['last_frame'] == j['rerun']['next_frame'] - 1 and j['rerun']['collisions'] == j['transfer']['events'] and j['difference']['max'] == 0"
 expect_exit 0 "replay both modes on the whole log" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode both --json "$work/report.json"
 expect_json "a whole log's re-run runs every sample, and agrees" "j['rerun']['until_frame'] is None and j['rerun']['next_frame'] - 1 > j['transfer']['last_frame'] and j['rerun']['collisions'] == j['transfer']['events'] and j['difference']['max'] == 0"
+# A glove sample's time edited: a re-run's clock counted its nanoseconds (utime 9e18 overflowed,
+# and the re-run went on silently), and ran every tick of a session's span (a gap of 50 years
+# ran for hours). A time no station writes is damage, named; a gap's quiet ticks are skipped.
+python3 - "$work/sphere-squeeze.lcmlog" "$work/glove-time.lcmlog" "$work/glove-gap.lcmlog" "$work/glove-time.expect" <<'PY'
+import struct, sys
+data = open(sys.argv[1], 'rb').read()
+overflow, gap = bytearray(data), bytearray(data)
+pos, samples, where = 0, [], None
+while pos < len(data):
+    _, _, _, cl, dl = struct.unpack('>IqqiI', data[pos:pos + 28])
+    if data[pos + 28:pos + 28 + cl] == b'SCULPT_GLOVE':
+        samples.append((pos, pos + 28 + cl + 8))  # the event, its utime (past the fingerprint)
+    pos += 28 + cl + dl
+where, body = samples[len(samples) // 2]
+struct.pack_into('>q', overflow, body, 9 * 10**18)
+for _, body in samples[len(samples) // 2:]:
+    struct.pack_into('>q', gap, body, struct.unpack_from('>q', gap, body)[0] + 50 * 365 * 86400 * 10**6)
+open(sys.argv[2], 'wb').write(bytes(overflow))
+open(sys.argv[3], 'wb').write(bytes(gap))
+open(sys.argv[4], 'w').write(str(where))
+PY
+expect_exit 0 "re-run a log with a glove sample in the year 285,000" -- timeout 20 "$SCULPT" replay "$work/glove-time.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode rerun --skip-damage
+grep -q "^damage   $work/glove-time.lcmlog: byte offset $(cat "$work/glove-time.expect"): SCULPT_GLOVE event whose time (utime 9000000000000000000) is before 1970 or after 2100" "$work/err" && ok "a glove sample's impossible time is damage, named by its byte offset" || bad "glove time: $(head -c 400 "$work/err")"
+expect_exit 0 "re-run a log whose second half is 50 years later" -- timeout 20 "$SCULPT" replay "$work/glove-gap.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode rerun --json "$work/report.json"
+expect_json "the re-run skipped the gap's quiet ticks" "j['rerun']['ticks'] < 10000"
 # On a terminal, the transfer's progress line is closed before the damage report interrupts it.
 script -qec "'$SCULPT' replay '$work/far-source.lcmlog' --model '$sphere' --out '$work/far-tty.ply'" /dev/null < /dev/null > "$work/tty" 2>&1
 if python3 -c "import re, sys; t = open(sys.argv[1], 'rb').read(); sys.exit(0 if b'transfer [' in t and re.search(rb'\]  *[0-9]+%\r?\ndamage   ', t) and not re.search(rb'%damage', t) else 1)" "$work/tty"; then ok "a stopped transfer ends its progress line before the damage report"; else bad "progress line on a terminal: $(tr '\r' '~' < "$work/tty" | head -c 600)"; fi

@@ -75,9 +75,9 @@ RecordedSession record_session(const rt::Scene& scene, const rt::SampleLog* samp
   CaptureRecorder recorder(out);
   station.set_recorder(&recorder);
   const auto period = static_cast<std::int64_t>(1e9 / setup.settings.rate_hz);
-  std::int64_t end =
-      replay->last_time_ns() + static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9) + 2 * period;
-  for (std::int64_t t = replay->first_time_ns(); t <= end; t += period) {
+  const auto timeout = static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9);
+  std::int64_t end = replay->last_time_ns() + timeout + 2 * period;
+  for (std::int64_t t = replay->first_time_ns(); t <= end; t = replay->next_tick_ns(t, period, timeout + 2 * period)) {
     replay->set_now(t);
     const rt::TickReport& r = station.tick(t, period);
     if (r.frame && r.collisions > 0) out.frame_ns.push_back(r.deform_ns);

@@ -8,6 +8,7 @@
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt/logging/event_log_walk.hpp"
+#include "sculpt/logging/records.hpp"
 #include "sculpt/logging/taken_ticks.hpp"
 #include "sculpt/rt/lcm_session_header.hpp"
 #endif
@@ -31,11 +32,12 @@ LoggedSession read_logged_session(const std::string& path) {
         } else if (event.channel == logging::kGloveChannel) {
           sculpt_lcm::glove_sample_t message;
           hal::GloveSample sample;
-          if (!logging::decode(event, message, error) || !hal::from_lcm(message, sample)) {
+          // The log's time base, as sculpt replay reads it.
+          if (!logging::decode(event, message, error) || !hal::from_lcm(message, sample) ||
+              !logging::log_time_ns(message.utime, sample.receive_time_ns)) {
             taken.damage();
             return;
           }
-          sample.receive_time_ns = message.utime * 1000;  // the log's time base, as sculpt replay reads it
           out.samples.samples.push_back(sample);
           taken.sample();
         }

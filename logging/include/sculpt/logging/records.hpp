@@ -21,6 +21,18 @@ using Vec3d = base::Double3;
 /// Records are stamped with the host's wall clock (sculpt/base/clock.hpp).
 using base::wall_time_us;
 
+/// The latest wall-clock time a log may hold: 1 January 2100, microseconds since the epoch.
+inline constexpr std::int64_t kLatestLogTimeUs = 4'102'444'800'000'000;
+
+/// A log's time (`utime`) as the nanoseconds a re-run's clock counts. False for a time before
+/// 1970 or after 2100, which no station wrote: an edit or damage, whose nanoseconds would
+/// overflow, or stretch a re-run over centuries.
+inline bool log_time_ns(std::int64_t utime, std::int64_t& ns) noexcept {
+  if (utime < 0 || utime > kLatestLogTimeUs) return false;
+  ns = utime * 1000;
+  return true;
+}
+
 /// One fingertip after filtering and registration (sculpt_lcm::fingertip_state_t).
 struct FingertipRecord {
   std::int64_t utime = 0;

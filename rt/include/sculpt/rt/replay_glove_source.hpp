@@ -40,6 +40,12 @@ class ReplayGloveSource final : public hal::GloveSource {
     took_a_tick_ = false;
   }
   bool finished() const noexcept { return next_ == samples_.size(); }
+  /// The virtual time of the tick after the one at `now`: `period` later, or, across a gap in
+  /// the samples, the last tick on the same grid before the next one is due, once no sample has
+  /// come for `idle_ns` (longer than the glove's timeout: the loop has released the glove, and
+  /// the ticks until the next sample change nothing but their count). A re-run then costs what
+  /// its samples hold, not the time they span (a log edited to a sample years later).
+  std::int64_t next_tick_ns(std::int64_t now, std::int64_t period, std::int64_t idle_ns) const noexcept;
   std::int64_t first_time_ns() const noexcept;
   /// When the last sample is due.
   std::int64_t last_time_ns() const noexcept { return last_due_ns_; }
