@@ -110,12 +110,12 @@ void DurableLog::lock_writer() {
   }
   // O_NONBLOCK: a FIFO made after the check fails the open at once instead of waiting.
   // O_EXCL first, to know whether the file is this session's own (a session that never starts
-  // removes it again) or an earlier log (left as it was until this session starts).
+  // removes it again) or an earlier log (left as it was until this session starts). The second
+  // open keeps O_CREAT for a dangling symbolic link, whose target it creates as before.
   lock_fd_ = ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NONBLOCK, 0644);
   created_file_ = lock_fd_ >= 0;
   if (lock_fd_ < 0 && errno == EEXIST) {
-    lock_fd_ =
-        ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK, 0644);  // a dangling link: its target
+    lock_fd_ = ::open(config_.path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK, 0644);
   }
   if (lock_fd_ < 0) {
     throw std::runtime_error("DurableLog: cannot open '" + config_.path + "' for writing: " + std::strerror(errno));
