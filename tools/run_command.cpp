@@ -234,6 +234,12 @@ class RunCommand final : public Command {
         "collisions\n",
         static_cast<unsigned long long>(t.samples), static_cast<unsigned long long>(t.frames),
         static_cast<unsigned long long>(t.collision_frame_time.count()), static_cast<unsigned long long>(t.collisions));
+    if (t.superseded_samples > 0) {  // else a glove faster than the loop looks fully used
+      std::printf(
+          "         %llu of them superseded by a newer sample of the same hand in their tick (the loop acts on the "
+          "newest)\n",
+          static_cast<unsigned long long>(t.superseded_samples));
+    }
     if (t.out_of_range > 0) {  // a glove sending inf or 1e30 otherwise shows only as no collisions
       std::printf(
           "dropped  %llu glove samples or fingertips holding an inf or NaN or lying far outside the model "
@@ -336,6 +342,7 @@ class RunCommand final : public Command {
             {"collision_frame_time", histogram_json(t.collision_frame_time)},
             {"glove_samples", c.samples},
             {"samples_taken", t.samples},
+            {"samples_superseded", t.superseded_samples},
             {"stale_ticks", t.stale_ticks},
             {"frames", t.frames},
             {"collisions", t.collisions},

@@ -115,6 +115,7 @@ void Station::take_samples(std::int64_t now_ns) noexcept {
         ++totals_.out_of_range;
         continue;
       }
+      if (fresh_[s.hand]) ++totals_.superseded_samples;
       newest_[s.hand] = s;
       ++report_.samples;
       if (recorder_) recorder_->glove_sample(s);

@@ -479,6 +479,30 @@ TEST(Station, ANonFiniteGloveSampleOrFingertipIsDroppedAndCountedNeverFilteredIn
   for (std::size_t i = 0; i < sphere.size(); ++i) ASSERT_TRUE(deform::is_finite(sphere.position(i))) << i;
 }
 
+// The loop acts on a hand's newest sample of those one tick takes; the older ones are counted
+// as superseded (a glove faster than the loop), so a session's summary says how many.
+TEST(Station, OfOneTicksSamplesTheNewestOfEachHandActsAndTheRestAreCounted) {
+  deform::PointModel sphere = deform::make_sphere();
+  auto glove = std::make_unique<FakeGlove>();
+  FakeGlove* g = glove.get();
+  StationSettings settings = press_settings();
+  settings.fingers = {{0, 1}, {1, 1}};
+  Station station(sphere, settings, std::move(glove), nullptr);
+  station.start();
+  g->feed({0.0, 0.0, 1.5}, kMs / 4, 250);
+  g->feed({0.0, 0.0, 1.7}, kMs / 2, 500, /*hand=*/1);
+  g->feed({0.0, 0.0, 1.4}, 3 * kMs / 4, 750);  // hand 0 again: this one acts
+  EXPECT_EQ(station.tick(kMs, kMs).samples, 3u);
+  EXPECT_EQ(station.totals().samples, 3u);
+  EXPECT_EQ(station.totals().superseded_samples, 1u);
+  EXPECT_EQ(station.fingers()[0].raw.z, 1.4f);
+  EXPECT_EQ(station.fingers()[1].raw.z, 1.7f);
+  g->feed({0.0, 0.0, 1.3}, 5 * kMs / 4, 1250);  // one sample a tick: nothing superseded
+  station.tick(2 * kMs, kMs);
+  EXPECT_EQ(station.totals().superseded_samples, 1u);
+  EXPECT_EQ(station.fingers()[0].raw.z, 1.3f);
+}
+
 TEST(Station, RejectsBadFingerLists) {
   deform::PointModel sphere = deform::make_sphere();
   StationSettings s = press_settings();

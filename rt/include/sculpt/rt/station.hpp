@@ -90,6 +90,9 @@ struct StationTotals {
   std::uint64_t stale_ticks = 0;
   std::uint64_t stale_events = 0;  ///< times a hand went stale (each hand counts on its own)
   std::uint64_t samples = 0;
+  /// Samples a newer one of the same hand replaced within the tick that took both (the loop acts
+  /// on a hand's newest sample): a glove faster than the loop, or a tick held up.
+  std::uint64_t superseded_samples = 0;
   double max_region_radius = 0.0;
   std::size_t max_region_points = 0;
   std::uint64_t index_rebuilds = 0;  ///< k-d trees rebuilt in the background and installed
