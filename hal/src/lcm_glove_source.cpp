@@ -11,6 +11,7 @@
 
 #include "sculpt/hal/lcm_handle.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
+#include "sculpt/hal/tcpq_probe.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -20,6 +21,10 @@ namespace {
 constexpr int kHandleTimeoutMs = 50;
 // Back-off while LCM reports errors, so a broken socket does not spin a core.
 constexpr std::chrono::milliseconds kErrorBackoff{50};
+// A tcpq server that went away is looked for this often, each look a connect of at most
+// kProbeTimeoutMs (stop() waits for one at most).
+constexpr std::chrono::milliseconds kReconnectPeriod{1000};
+constexpr int kProbeTimeoutMs = 200;
 
 }  // namespace
 
@@ -114,11 +119,36 @@ void LcmGloveSource::handle(const void* data, std::uint32_t size) noexcept {
   }
 }
 
+bool LcmGloveSource::reconnect() noexcept {
+  if (!tcpq_server_answers(config_.url, kProbeTimeoutMs)) return false;
+  try {
+    auto fresh = std::make_unique<lcm::LCM>(config_.url);
+    if (!fresh->good() || !lcm_has_socket(*fresh)) return false;
+    lcm::Subscription* subscription =
+        fresh->subscribeFunction(config_.glove_channel, &LcmGloveSource::on_message, this);
+    if (subscription == nullptr || !lcm_has_socket(*fresh)) return false;
+    // The old instance goes, and its subscription with it. liblcm's destroy unsubscribes, and a
+    // tcpq instance without a socket connects to do so: quick, as the server just answered.
+    owned_ = std::move(fresh);
+    lcm_ = owned_.get();
+    subscription_ = subscription;
+    return true;
+  } catch (...) {  // the instance's allocations: try again at the next look
+    return false;
+  }
+}
+
 void LcmGloveSource::run() noexcept {
+  auto next_look = std::chrono::steady_clock::now();
   while (!stop_requested_.load(std::memory_order_acquire)) {
     if (lcm_handle_within(*lcm_, kHandleTimeoutMs) < 0) {
       if (state_.exchange(SourceState::kDisconnected) != SourceState::kDisconnected) {
         counters_.disconnects.fetch_add(1, std::memory_order_relaxed);
+      }
+      // An owned tcpq instance without a socket lost its server: a new one once it answers.
+      if (owned_ && !lcm_has_socket(*lcm_) && std::chrono::steady_clock::now() >= next_look) {
+        next_look = std::chrono::steady_clock::now() + kReconnectPeriod;
+        if (reconnect()) continue;
       }
       std::this_thread::sleep_for(kErrorBackoff);
       continue;

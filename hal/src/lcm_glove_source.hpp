@@ -26,7 +26,11 @@ namespace sculpt::hal {
 /// that do not decode, or decode to invalid values (hand, kind, non-finite numbers), are
 /// counted as framing errors and skipped; the handler never throws. Sequence gaps are counted
 /// per hand. State: kConnected from start() (LCM has no connection to lose), kDisconnected
-/// while LCM reports errors, kStopped after stop().
+/// while LCM reports errors, kStopped after stop(). An owned tcpq instance whose server went
+/// away is replaced by a new one once the server answers again (looked for every second with a
+/// 200 ms connect, tcpq_server_answers(): a server named by its IPv4 address only), so the glove
+/// comes back live without a restart; counted as a reconnect once a message or a quiet wait
+/// succeeds on it.
 class LcmGloveSource final : public GloveSource {
  public:
   /// Allocates the queue; start() opens LCM on `config.url`.
@@ -50,6 +54,8 @@ class LcmGloveSource final : public GloveSource {
   static void on_message(const lcm::ReceiveBuffer* buffer, const std::string& channel, LcmGloveSource* self);
   void handle(const void* data, std::uint32_t size) noexcept;
   void run() noexcept;
+  // A new owned instance in place of one whose tcpq server went away, when the server answers.
+  bool reconnect() noexcept;
 
   LcmConfig config_;
   lcm::LCM* lcm_ = nullptr;  // owned_ or the shared instance

@@ -327,6 +327,108 @@ TEST(LcmGloveSource, ATcpqServerMissingOrGoneIsAnErrorNotAnAbort) {
   EXPECT_EQ(source.state(), SourceState::kStopped);
 }
 
+// The server's side of LCM's tcpq handshake on an accepted connection: the client's magic and
+// version in, the server's out (big-endian words), then the client's subscription. False when
+// the client sent no handshake (tcpq_server_answers' look, which connects and closes).
+bool serve_handshake(int client) {
+  std::array<std::uint8_t, 8> hello{};
+  if (::recv(client, hello.data(), hello.size(), MSG_WAITALL) != static_cast<ssize_t>(hello.size())) return false;
+  const std::array<std::uint8_t, 8> answer = {0x28, 0x76, 0x17, 0xfa, 0x00, 0x00, 0x01, 0x00};
+  (void)::send(client, answer.data(), answer.size(), MSG_NOSIGNAL);
+  std::array<std::uint8_t, 64> subscription{};
+  (void)::recv(client, subscription.data(), subscription.size(), 0);
+  return true;
+}
+
+void send_word(int client, std::uint32_t word) {
+  const std::uint32_t big = htonl(word);
+  (void)::send(client, &big, sizeof big, MSG_NOSIGNAL);
+}
+
+// A listening socket on a given loopback port (a server back after it went away).
+int listen_on(std::uint16_t port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const int yes = 1;
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  address.sin_port = htons(port);
+  if (fd < 0 || ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes) != 0 ||
+      ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 || ::listen(fd, 4) != 0) {
+    if (fd >= 0) ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+// A tcpq server that hangs up and comes back: the source used to stay disconnected until the
+// station was restarted (liblcm 1.3.1 reconnects only in its blocking handle()). It now looks
+// for the server every second and, once it answers, listens on a new instance: the glove's
+// next sample arrives, counted as a reconnect.
+TEST(LcmGloveSource, ATcpqServerThatComesBackIsListenedToAgain) {
+  LoopbackListener first;
+  LcmConfig config;
+  config.url = first.url();
+  const auto port = static_cast<std::uint16_t>(std::stoi(config.url.substr(config.url.rfind(':') + 1)));
+  std::thread hang_up([&first] {
+    const int client = ::accept(first.fd(), nullptr, nullptr);
+    if (client < 0) return;
+    serve_handshake(client);
+    ::close(client);
+  });
+  LcmGloveSource source(config, 8);
+  source.start();
+  hang_up.join();
+  first.close();  // gone: the looks are refused
+  const auto wait_for = [](const auto& done) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!done() && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return done();
+  };
+  ASSERT_TRUE(wait_for([&] { return source.counters().disconnects == 1; }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // a look or two finds nothing
+  EXPECT_EQ(source.state(), SourceState::kDisconnected);
+  EXPECT_EQ(source.counters().reconnects, 0u);
+
+  const int back = listen_on(port);
+  ASSERT_GE(back, 0) << "cannot listen on port " << port << " again";
+  // Every client is answered, as LCM's own server does: the look (which sends nothing), the new
+  // instance (sent one sample), and the old instance, which liblcm connects once more while
+  // destroying it (its destroy unsubscribes, and a tcpq instance without a socket connects to
+  // unsubscribe).
+  std::thread serve([&] {
+    std::vector<int> clients;
+    bool sent = false;
+    for (int client = ::accept(back, nullptr, nullptr); client >= 0; client = ::accept(back, nullptr, nullptr)) {
+      clients.push_back(client);
+      if (!serve_handshake(client) || sent) continue;
+      const std::vector<std::uint8_t> data = encode(make_sample(0, 7));
+      const std::string channel = config.glove_channel;
+      send_word(client, 1);  // a published message: type, channel, payload
+      send_word(client, static_cast<std::uint32_t>(channel.size()));
+      (void)::send(client, channel.data(), channel.size(), MSG_NOSIGNAL);
+      send_word(client, static_cast<std::uint32_t>(data.size()));
+      (void)::send(client, data.data(), data.size(), MSG_NOSIGNAL);
+      sent = true;
+    }
+    for (const int client : clients) ::close(client);
+  });
+  std::array<GloveSample, 4> out{};
+  std::size_t received = 0;
+  EXPECT_TRUE(wait_for([&] { return (received += source.poll(out)) > 0; }));
+  EXPECT_EQ(received, 1u);
+  EXPECT_EQ(out[0].sequence, 7u);
+  EXPECT_TRUE(wait_for([&] { return source.state() == SourceState::kConnected; }));
+  EXPECT_EQ(source.counters().reconnects, 1u);
+  source.stop();
+  ::shutdown(back, SHUT_RDWR);  // wakes the accept
+  serve.join();
+  ::close(back);
+  EXPECT_EQ(source.state(), SourceState::kStopped);
+}
+
 // The station's transport: UDP multicast on loopback (ttl=0). Multicast drops bursts here, so
 // a modest number of samples go out with pauses, and the test checks that what arrived is
 // exactly what was sent, in order, and that the gaps account for what did not.

@@ -14,8 +14,8 @@ namespace sculpt::hal {
 bool lcm_has_socket(lcm::LCM& lcm) noexcept;
 
 /// lcm.handleTimeout(timeout_ms), or -1 (as handleTimeout reports an error) when the instance
-/// has no socket to wait on. A tcpq instance is not reconnected: its reader reports it
-/// disconnected, and the station's glove goes stale.
+/// has no socket to wait on. This does not reconnect a tcpq instance: its reader reports it
+/// disconnected (the station's glove goes stale), and may make a new one (LcmGloveSource).
 int lcm_handle_within(lcm::LCM& lcm, int timeout_ms) noexcept;
 
 }  // namespace sculpt::hal
