@@ -179,6 +179,7 @@ class ProgressLine {
 
   void show(std::size_t done, std::size_t total) {
     if (!tty_ || total == 0) return;
+    done = std::min(done, total);  // a re-run's held-back ticks run past the end it foresaw
     const int width = 40, filled = static_cast<int>(width * done / total);
     std::fprintf(stderr, "\r%-8s [%s%s] %3zu%%", what_, std::string(filled, '#').c_str(),
                  std::string(width - filled, ' ').c_str(), 100 * done / total);

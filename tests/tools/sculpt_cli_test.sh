@@ -612,6 +612,26 @@ expect_exit 0 "record a session with a glove twice the loop's rate" -- "$SCULPT"
 expect_json "live ticks took more than one sample, and say so" "j['samples_taken'] > 1.5 * j['ticks'] and j['samples_superseded'] > 0.4 * j['ticks'] and j['collisions'] > 0"
 expect_exit 0 "re-run the fast glove's session" -- "$SCULPT" replay "$work/fast-glove.lcmlog" --model "$sphere" --scene "$work/fast-glove.toml" --mode rerun --out "$work/fast-rerun.ply"
 cmp -s "$work/fast-rerun.ply" "$work/fast-glove.ply" && ok "the re-run of a glove faster than the loop reproduces the live model" || bad "the fast glove's re-run differs from the live model"
+# The last 600 samples edited to one receive time: their live ticks are held back a re-run tick
+# each, past the end the re-run foresaw, and its progress bar on a terminal went past 100 % and
+# threw (std::string of a negative length).
+python3 - "$work/fast-glove.lcmlog" "$work/same-time.lcmlog" <<'PY'
+import struct, sys
+data = bytearray(open(sys.argv[1], 'rb').read())
+pos, bodies = 0, []
+while pos < len(data):
+    _, _, _, cl, dl = struct.unpack('>IqqiI', data[pos:pos + 28])
+    if data[pos + 28:pos + 28 + cl] == b'SCULPT_GLOVE':
+        bodies.append(pos + 28 + cl + 8)  # the sample's utime, past the type's fingerprint
+    pos += 28 + cl + dl
+last = struct.unpack_from('>q', data, bodies[-1])[0]
+for body in bodies[-600:]:
+    struct.pack_into('>q', data, body, last)
+open(sys.argv[2], 'wb').write(bytes(data))
+PY
+script -qec "'$SCULPT' replay '$work/same-time.lcmlog' --model '$sphere' --scene '$work/fast-glove.toml' --mode rerun --out '$work/same-time.ply'" /dev/null < /dev/null > "$work/tty" 2>&1
+got=$?
+[[ $got -eq 0 ]] && grep -q "100%" "$work/tty" && ok "a re-run running past its foreseen end keeps its progress bar at 100 %" || bad "held-back re-run on a terminal (exit $got): $(tr '\r' '~' < "$work/tty" | tail -c 300)"
 # A re-run's own log (--record) is kept like a station's: a second re-run refuses to write over
 # it, naming it, unless --replace-log; that flag alone is a usage error.
 rerun_args=("$work/sphere-squeeze.lcmlog" --model "$sphere" --scene "$work/squeeze.toml" --mode rerun --out "$work/rerun3.ply")
