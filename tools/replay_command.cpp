@@ -658,17 +658,19 @@ class ReplayCommand final : public Command {
     const auto period = static_cast<std::int64_t>(1e9 / setup.settings.rate_hz);
     const std::int64_t first = replay->first_time_ns(), last = replay->last_time_ns();
     const auto timeout = static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9);
-    std::int64_t end = last + timeout + 2 * period;
+    const std::int64_t end = last + timeout + 2 * period;
     const std::size_t total = static_cast<std::size_t>((end - first) / period + 1);
     std::size_t done = 0;
     ProgressLine progress("re-run");
-    for (std::int64_t t = first; t <= end; t = replay->next_tick_ns(t, period, timeout + 2 * period)) {
+    // On past `end` while live ticks are still held back, a re-run tick each.
+    for (std::int64_t t = first; t <= end || !replay->finished();
+         t = replay->next_tick_ns(t, period, timeout + 2 * period)) {
       if (until && station.next_frame_id() > *until) break;
       replay->set_now(t);
       const rt::TickReport& report = station.tick(t, period);
       if (recorder) recorder->tick(report, 0, 0, 0.0);
-      if (t + period > end && !replay->finished()) end += period;  // live ticks held back a tick each
-      if (++done % 1000 == 0 || t + period > end) progress.show(static_cast<std::size_t>((t - first) / period), total);
+      const bool last_tick = t + period > end && replay->finished();
+      if (++done % 1000 == 0 || last_tick) progress.show(static_cast<std::size_t>((t - first) / period), total);
     }
     progress.end();
     json["rerun"] = {{"ticks", station.totals().ticks},

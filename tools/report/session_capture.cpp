@@ -76,12 +76,13 @@ RecordedSession record_session(const rt::Scene& scene, const rt::SampleLog* samp
   station.set_recorder(&recorder);
   const auto period = static_cast<std::int64_t>(1e9 / setup.settings.rate_hz);
   const auto timeout = static_cast<std::int64_t>(setup.settings.glove_timeout_s * 1e9);
-  std::int64_t end = replay->last_time_ns() + timeout + 2 * period;
-  for (std::int64_t t = replay->first_time_ns(); t <= end; t = replay->next_tick_ns(t, period, timeout + 2 * period)) {
+  const std::int64_t end = replay->last_time_ns() + timeout + 2 * period;
+  // On past `end` while live ticks are still held back, a re-run tick each.
+  for (std::int64_t t = replay->first_time_ns(); t <= end || !replay->finished();
+       t = replay->next_tick_ns(t, period, timeout + 2 * period)) {
     replay->set_now(t);
     const rt::TickReport& r = station.tick(t, period);
     if (r.frame && r.collisions > 0) out.frame_ns.push_back(r.deform_ns);
-    if (t + period > end && !replay->finished()) end += period;  // live ticks held back a tick each
   }
   out.guards = station.totals().guards;
   out.final_model = setup.model;
