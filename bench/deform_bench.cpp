@@ -463,6 +463,15 @@ void register_all() {
                   [p, name](benchmark::State& s) { frame(s, name, p, 0.0, 2, 0.0, true); })
             ->Arg(5)
             ->Unit(ms);
+        // Both approximations: most points then need their displacement alone, whose cost is
+        // the square root and division per source that the estimate replaces.
+        for (const int threads : {1, 2}) {
+          frame_row("Scan/" + name +
+                        (threads == 1 ? "/global_bounded_fast_isqrt/" : "/global_bounded_fast_isqrt_2threads/") + tag,
+                    [p, name, threads](benchmark::State& s) { frame(s, name, p, 0.0, threads, 1e-2, true); })
+              ->Arg(5)
+              ->Unit(ms);
+        }
       }
       frame_row("Scan/" + name + "/region20/" + tag, [p, name](benchmark::State& s) { frame(s, name, p, 20.0); })
           ->Arg(1)

@@ -153,6 +153,45 @@ inline bool any(Bits mask) noexcept {
   return set != 0;
 }
 
+// The lanes of a comparison's result (all ones or zero per lane) as bits, lane j in bit j: one
+// instruction where the target has it. A loop reading the lanes one by one compiled to an
+// extraction, a test and an add with carry per lane (the bounded pass's count of points over
+// its bound, about a tenth of that pass).
+template <typename Bits>
+inline std::uint32_t lane_bits(Bits mask) noexcept {
+  using L = std::remove_cvref_t<decltype(mask[0])>;
+  constexpr std::size_t kLanes = sizeof(Bits) / sizeof(L);
+#if defined(__AVX512F__)
+  if constexpr (sizeof(Bits) == 64 && sizeof(L) == 4) {
+    const auto m = reinterpret_cast<__m512i>(mask);
+    return _mm512_test_epi32_mask(m, m);
+  }
+  if constexpr (sizeof(Bits) == 64 && sizeof(L) == 8) {
+    const auto m = reinterpret_cast<__m512i>(mask);
+    return _mm512_test_epi64_mask(m, m);
+  }
+#endif
+#if defined(__AVX__)
+  if constexpr (sizeof(Bits) == 32 && sizeof(L) == 4) {
+    return static_cast<std::uint32_t>(_mm256_movemask_ps(reinterpret_cast<__m256>(mask)));
+  }
+  if constexpr (sizeof(Bits) == 32 && sizeof(L) == 8) {
+    return static_cast<std::uint32_t>(_mm256_movemask_pd(reinterpret_cast<__m256d>(mask)));
+  }
+#endif
+#if defined(__SSE2__)
+  if constexpr (sizeof(Bits) == 16 && sizeof(L) == 4) {
+    return static_cast<std::uint32_t>(_mm_movemask_ps(reinterpret_cast<__m128>(mask)));
+  }
+  if constexpr (sizeof(Bits) == 16 && sizeof(L) == 8) {
+    return static_cast<std::uint32_t>(_mm_movemask_pd(reinterpret_cast<__m128d>(mask)));
+  }
+#endif
+  std::uint32_t bits = 0;
+  for (std::size_t j = 0; j < kLanes; ++j) bits |= static_cast<std::uint32_t>(mask[j] != 0) << j;
+  return bits;
+}
+
 // 1/sqrt(x) in every lane from the processor's reciprocal square root estimate y, refined by one
 // Newton step y (3/2 - (x/2) y^2) (FieldOptions::fast_inverse_sqrt; inverse_sqrt.cpp derives the
 // error bound). A lane that is not a normal positive float gets the exact 1 / sqrt(x) instead:
