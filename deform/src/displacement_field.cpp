@@ -92,49 +92,64 @@ template <typename U, typename V>
 }
 
 // One source's share at a register of points (U: lanes of T), from
-// r = Q - P and inv = 1/sqrt(r.r + eps^2): adds the displacement
+// r = Q - P and inv = 1/sqrt(r.r + eps^2): add_displacement adds the displacement
 //   u(Q) = sum_s (alpha/r + beta/r^3) f_s + gamma/r^3 (r.f_s) r   (see KernelCoefficients)
-// to u and, with kGradient, its gradient to g, sharing the one square root and division:
-// 1/r^3 and 1/r^5 are products of 1/r. The gradient, which only feeds the normals and the fold
-// guard, is rearranged as g += a r^T + b f^T + (h r.f) I with
+// to u, add_gradient its gradient to g, sharing the one square root and division: 1/r^3 and
+// 1/r^5 are products of 1/r. The gradient, which only feeds the normals and the fold guard, is
+// rearranged as g += a r^T + b f^T + (h r.f) I with
 //   a = g'(r)/r f + h'(r)/r (r.f) r,  b = h r,  h = gamma/r^3,
 // and fused multiply-adds (one rounding each, exact IEEE operations; the library is built with
-// -ffp-contract=off, so the compiler fuses nothing else). Every pass calls it, so a point moves
-// by the same bits whichever pass computed it.
-template <typename T, bool kGradient, typename U>
-[[gnu::always_inline]] inline void add_share(const SourceTable<T>& t, std::size_t s, U rx, U ry, U rz, U inv, U (&u)[3],
-                                             U (&g)[3][3]) {
+// -ffp-contract=off, so the compiler fuses nothing else). Every pass calls these, so a point
+// moves by the same bits whichever pass computed it; called together (add_share), the compiler
+// computes the terms they share once.
+template <typename T, typename U>
+[[gnu::always_inline]] inline void add_displacement(const SourceTable<T>& t, std::size_t s, U rx, U ry, U rz, U inv,
+                                                    U (&u)[3]) {
+  const U fx = every<U>(t.fx[s]), fy = every<U>(t.fy[s]), fz = every<U>(t.fz[s]);
+  const U inv3 = (inv * inv) * inv;
+  const U rf = dot(rx, ry, rz, fx, fy, fz);
+  const U diag = fused(every<U>(t.beta), inv3, t.alpha * inv);
+  const U radial = (t.gamma * inv3) * rf;
+  u[0] = fused(radial, rx, fused(diag, fx, u[0]));
+  u[1] = fused(radial, ry, fused(diag, fy, u[1]));
+  u[2] = fused(radial, rz, fused(diag, fz, u[2]));
+}
+
+template <typename T, typename U>
+[[gnu::always_inline]] inline void add_gradient(const SourceTable<T>& t, std::size_t s, U rx, U ry, U rz, U inv,
+                                                U (&g)[3][3]) {
   const U fx = every<U>(t.fx[s]), fy = every<U>(t.fy[s]), fz = every<U>(t.fz[s]);
   const U inv2 = inv * inv;
   const U inv3 = inv2 * inv;
   const U rf = dot(rx, ry, rz, fx, fy, fz);
-  const U diag = fused(every<U>(t.beta), inv3, t.alpha * inv);
   const U h = t.gamma * inv3;
   const U radial = h * rf;
-  u[0] = fused(radial, rx, fused(diag, fx, u[0]));
-  u[1] = fused(radial, ry, fused(diag, fy, u[1]));
-  u[2] = fused(radial, rz, fused(diag, fz, u[2]));
-  if constexpr (kGradient) {
-    const U inv5 = inv3 * inv2;
-    const U g_prime = fused(every<U>(-(T(3) * t.beta)), inv5, -t.alpha * inv3);
-    const U h_prime_rf = T(-3) * t.gamma * inv5 * rf;
-    const U ax = fused(g_prime, fx, h_prime_rf * rx);
-    const U ay = fused(g_prime, fy, h_prime_rf * ry);
-    const U az = fused(g_prime, fz, h_prime_rf * rz);
-    const U bx = h * rx, by = h * ry, bz = h * rz;
-    // Written out: with the diagonal chosen by a scalar condition between lane values
-    // (`l == m ? g + radial : g`, in a loop), GCC 12 at -O3 kept the radial term in lane 0 only
-    // (the field tests caught it).
-    g[0][0] = fused(ax, rx, fused(bx, fx, g[0][0] + radial));
-    g[0][1] = fused(ax, ry, fused(bx, fy, g[0][1]));
-    g[0][2] = fused(ax, rz, fused(bx, fz, g[0][2]));
-    g[1][0] = fused(ay, rx, fused(by, fx, g[1][0]));
-    g[1][1] = fused(ay, ry, fused(by, fy, g[1][1] + radial));
-    g[1][2] = fused(ay, rz, fused(by, fz, g[1][2]));
-    g[2][0] = fused(az, rx, fused(bz, fx, g[2][0]));
-    g[2][1] = fused(az, ry, fused(bz, fy, g[2][1]));
-    g[2][2] = fused(az, rz, fused(bz, fz, g[2][2] + radial));
-  }
+  const U inv5 = inv3 * inv2;
+  const U g_prime = fused(every<U>(-(T(3) * t.beta)), inv5, -t.alpha * inv3);
+  const U h_prime_rf = T(-3) * t.gamma * inv5 * rf;
+  const U ax = fused(g_prime, fx, h_prime_rf * rx);
+  const U ay = fused(g_prime, fy, h_prime_rf * ry);
+  const U az = fused(g_prime, fz, h_prime_rf * rz);
+  const U bx = h * rx, by = h * ry, bz = h * rz;
+  // Written out: with the diagonal chosen by a scalar condition between lane values
+  // (`l == m ? g + radial : g`, in a loop), GCC 12 at -O3 kept the radial term in lane 0 only
+  // (the field tests caught it).
+  g[0][0] = fused(ax, rx, fused(bx, fx, g[0][0] + radial));
+  g[0][1] = fused(ax, ry, fused(bx, fy, g[0][1]));
+  g[0][2] = fused(ax, rz, fused(bx, fz, g[0][2]));
+  g[1][0] = fused(ay, rx, fused(by, fx, g[1][0]));
+  g[1][1] = fused(ay, ry, fused(by, fy, g[1][1] + radial));
+  g[1][2] = fused(ay, rz, fused(by, fz, g[1][2]));
+  g[2][0] = fused(az, rx, fused(bz, fx, g[2][0]));
+  g[2][1] = fused(az, ry, fused(bz, fy, g[2][1]));
+  g[2][2] = fused(az, rz, fused(bz, fz, g[2][2] + radial));
+}
+
+template <typename T, bool kGradient, typename U>
+[[gnu::always_inline]] inline void add_share(const SourceTable<T>& t, std::size_t s, U rx, U ry, U rz, U inv, U (&u)[3],
+                                             U (&g)[3][3]) {
+  add_displacement(t, s, rx, ry, rz, inv, u);
+  if constexpr (kGradient) add_gradient(t, s, rx, ry, rz, inv, g);
 }
 
 // det(I + grad u) from the gradient g of a register of points (U: lanes of T) and, when
@@ -255,13 +270,12 @@ template <typename T>
 // kBound, the sum of the sources' bounds on ||grad u|| too. The displacement alone is short
 // enough that a register's square roots and divisions all first left the core waiting for them:
 // interleaved, the pass without gradients took 8 % less (BareLoop5x100k). u has the bits
-// add_share gives whatever the pass.
+// add_displacement gives whatever the pass.
 template <bool kBound, bool kFast, typename T>
 [[gnu::always_inline]] inline void displacement_first(const SourceTable<T>& t, const Lanes<T>& qx, const Lanes<T>& qy,
                                                       const Lanes<T>& qz, Lanes<T> (&reciprocal)[kMaxSources],
                                                       Lanes<T> (&u)[3], Lanes<T>& bound) {
   using V = Lanes<T>;
-  V unused[3][3];
   for (std::size_t s = 0; s < t.count; ++s) {
     const V rx = qx - t.px[s], ry = qy - t.py[s], rz = qz - t.pz[s];
     const V inv = reciprocal_distance<kFast>(t, rx, ry, rz);
@@ -270,7 +284,7 @@ template <bool kBound, bool kFast, typename T>
       const V inv2 = inv * inv;
       bound = bound + lanes::fma(lanes::splat<V>(t.bound_r4[s]), inv2, lanes::splat<V>(t.bound_r2[s])) * inv2;
     }
-    add_share<T, false>(t, s, rx, ry, rz, inv, u, unused);
+    add_displacement(t, s, rx, ry, rz, inv, u);
   }
 }
 
@@ -446,13 +460,15 @@ template <typename T, bool kGradient, bool kCarry, bool kBounded>
       lanes::store_values(skip.min_det_floor + lane, det_floor < min_floor ? det_floor : min_floor);
       return valid - over;
     }
-    // Computed exactly after all: the sums start again from the kept reciprocals, so the
-    // register's bits are those of the exact pass.
-    u[0] = u[1] = u[2] = V{};
+    // Most of the register needs its gradients: summed here from the kept reciprocals, beside
+    // the displacement already summed (the exact pass's bits, which add the same shares).
+    for (std::size_t s = 0; s < t.count; ++s) {
+      add_gradient(t, s, V(qx - t.px[s]), V(qy - t.py[s]), V(qz - t.pz[s]), reciprocal[s], g);
+    }
   } else {
     reciprocal_distances(t, qx, qy, qz, reciprocal);
+    sum_shares<T, true>(t, qx, qy, qz, reciprocal, u, g);
   }
-  sum_shares<T, true>(t, qx, qy, qz, reciprocal, u, g);
   V n0{}, n1{}, n2{};
   if constexpr (kCarry) {
     n0 = lanes::load<T>(from.nx);
