@@ -21,8 +21,9 @@ namespace {
 template <typename T>
 struct SourceTable {
   std::size_t count = 0;
-  std::array<T, kMaxSources> px{}, py{}, pz{};  // source position
-  std::array<T, kMaxSources> fx{}, fy{}, fz{};  // effective force
+  std::array<T, kMaxSources> px{}, py{}, pz{};     // source position
+  std::array<T, kMaxSources> fx{}, fy{}, fz{};     // effective force
+  std::array<T, kMaxSources> gfx{}, gfy{}, gfz{};  // gamma times it, for gamma (r.f) in one dot product
   // The bound on each source's ||grad u||_2 is bound_r2 / r_eps^2 + bound_r4 / r_eps^4
   // (FieldOptions::normal_skip_bound; the README's physics notes derive it).
   std::array<T, kMaxSources> bound_r2{}, bound_r4{};
@@ -50,6 +51,9 @@ SourceTable<T> make_table(const Kernel& kernel, std::span<const SourceForce> sou
   t.gamma = static_cast<T>(k.gamma);
   t.eps2 = static_cast<T>(k.eps_squared);
   for (std::size_t s = 0; s < t.count; ++s) {
+    t.gfx[s] = static_cast<T>(k.gamma * sources[s].force.x);
+    t.gfy[s] = static_cast<T>(k.gamma * sources[s].force.y);
+    t.gfz[s] = static_cast<T>(k.gamma * sources[s].force.z);
     const double f = norm(sources[s].force);
     t.bound_r2[s] = static_cast<T>(f * (std::abs(k.alpha) + 5.0 * std::abs(k.gamma)));
     t.bound_r4[s] = static_cast<T>(f * 3.0 * std::abs(k.beta));
@@ -107,9 +111,9 @@ template <typename T, typename U>
                                                     U (&u)[3]) {
   const U fx = every<U>(t.fx[s]), fy = every<U>(t.fy[s]), fz = every<U>(t.fz[s]);
   const U inv3 = (inv * inv) * inv;
-  const U rf = dot(rx, ry, rz, fx, fy, fz);
+  const U gamma_rf = dot(rx, ry, rz, every<U>(t.gfx[s]), every<U>(t.gfy[s]), every<U>(t.gfz[s]));
   const U diag = fused(every<U>(t.beta), inv3, t.alpha * inv);
-  const U radial = (t.gamma * inv3) * rf;
+  const U radial = inv3 * gamma_rf;
   u[0] = fused(radial, rx, fused(diag, fx, u[0]));
   u[1] = fused(radial, ry, fused(diag, fy, u[1]));
   u[2] = fused(radial, rz, fused(diag, fz, u[2]));
@@ -121,12 +125,12 @@ template <typename T, typename U>
   const U fx = every<U>(t.fx[s]), fy = every<U>(t.fy[s]), fz = every<U>(t.fz[s]);
   const U inv2 = inv * inv;
   const U inv3 = inv2 * inv;
-  const U rf = dot(rx, ry, rz, fx, fy, fz);
+  const U gamma_rf = dot(rx, ry, rz, every<U>(t.gfx[s]), every<U>(t.gfy[s]), every<U>(t.gfz[s]));
   const U h = t.gamma * inv3;
-  const U radial = h * rf;
+  const U radial = inv3 * gamma_rf;
   const U inv5 = inv3 * inv2;
   const U g_prime = fused(every<U>(-(T(3) * t.beta)), inv5, -t.alpha * inv3);
-  const U h_prime_rf = T(-3) * t.gamma * inv5 * rf;
+  const U h_prime_rf = (T(-3) * inv5) * gamma_rf;
   const U ax = fused(g_prime, fx, h_prime_rf * rx);
   const U ay = fused(g_prime, fy, h_prime_rf * ry);
   const U az = fused(g_prime, fz, h_prime_rf * rz);
