@@ -26,6 +26,20 @@ constexpr std::chrono::milliseconds kErrorBackoff{50};
 constexpr std::chrono::milliseconds kReconnectPeriod{1000};
 constexpr int kProbeTimeoutMs = 200;
 
+// Destroys an instance the source made. liblcm's destroy unsubscribes, and a tcpq instance with
+// no socket connects to its server to do so and waits for the server's handshake: for minutes
+// when the server's host has gone, for ever when its process is stopped or hung. Unless the
+// server answers a look, the instance is destroyed on a thread of its own that nobody waits for
+// (when no thread can start, it is kept: a few kilobytes, rather than a stop that never returns).
+void let_go(std::unique_ptr<lcm::LCM> instance, const std::string& url) noexcept {
+  if (lcm_has_socket(*instance) || tcpq_server_answers(url, kProbeTimeoutMs)) return;  // destroyed here
+  lcm::LCM* const doomed = instance.release();
+  try {
+    std::thread([doomed] { delete doomed; }).detach();
+  } catch (...) {  // std::system_error: the instance stays
+  }
+}
+
 }  // namespace
 
 LcmGloveSource::LcmGloveSource(const LcmConfig& config, std::size_t queue_capacity)
@@ -39,6 +53,10 @@ LcmGloveSource::~LcmGloveSource() { stop(); }
 void LcmGloveSource::start() {
   if (thread_.joinable()) throw std::runtime_error("LCM glove source: already started");
   if (lcm_ == nullptr) {  // not shared (or closed by a previous stop)
+    // A tcpq server that does not answer would hold liblcm's connect (the look says why).
+    if (tcpq_server_address(config_.url) && !tcpq_server_answers(config_.url, kProbeTimeoutMs)) {
+      throw std::runtime_error("LCM glove source: no server answered at '" + config_.url + "'");
+    }
     owned_ = std::make_unique<lcm::LCM>(config_.url);
     if (!owned_->good()) {
       owned_.reset();
@@ -72,12 +90,13 @@ void LcmGloveSource::stop() {
   if (!thread_.joinable()) return;
   stop_requested_.store(true, std::memory_order_release);
   thread_.join();
-  lcm_->unsubscribe(subscription_);
-  subscription_ = nullptr;
   if (owned_) {
-    owned_.reset();
+    let_go(std::move(owned_), config_.url);  // its subscription with it
     lcm_ = nullptr;
+  } else {
+    lcm_->unsubscribe(subscription_);
   }
+  subscription_ = nullptr;
   state_.store(SourceState::kStopped, std::memory_order_release);
 }
 

@@ -44,13 +44,19 @@ class LcmHapticSink final : public HapticSink {
   std::uint64_t published() const noexcept { return published_.total(); }
   std::uint64_t delivered() const noexcept override { return published(); }
   std::uint64_t delivered_in_contact(std::size_t hand) const noexcept override { return published_.in_contact(hand); }
-  /// Commands that failed to encode or that LCM refused to publish.
+  /// Commands that failed to encode, that LCM refused to publish, or that were not published
+  /// because the tcpq server had gone (may_publish()).
   std::uint64_t publish_errors() const noexcept { return publish_errors_.load(std::memory_order_relaxed); }
   const char* name() const noexcept override { return "lcm"; }
 
  private:
   void run() noexcept;
   std::size_t drain() noexcept;
+  // Whether to publish now. liblcm's tcpq instance reconnects inside publish() once its server
+  // hung up, and its connect and handshake have no timeout: a server whose process was stopped
+  // held the sink's thread, and so stop(), for ever. Such an instance publishes again only after
+  // its server answered a look (at most one every second); its commands until then are errors.
+  bool may_publish() noexcept;
 
   LcmConfig config_;
   std::chrono::microseconds poll_period_;
@@ -59,6 +65,8 @@ class LcmHapticSink final : public HapticSink {
   base::SpscQueue<HapticCommand> queue_;
   std::atomic<std::uint64_t> dropped_{0}, publish_errors_{0};
   DeliveryCounts published_;
+  bool tcpq_ = false;                                  // the owned instance is tcpq's
+  std::chrono::steady_clock::time_point next_look_{};  // the sink thread's
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;
 };

@@ -9,13 +9,15 @@
 #include <array>
 #include <cerrno>
 #include <charconv>
+#include <chrono>
 #include <cstdint>
+#include <cstring>
 
 namespace sculpt::hal {
 
-bool tcpq_server_answers(std::string_view url, int timeout_ms) noexcept {
+std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept {
   constexpr std::string_view kScheme = "tcpq://";
-  if (url.substr(0, kScheme.size()) != kScheme) return false;
+  if (url.substr(0, kScheme.size()) != kScheme) return std::nullopt;
   std::string_view network = url.substr(kScheme.size());
   network = network.substr(0, network.find('?'));
   if (network.empty()) network = "127.0.0.1:7700";  // liblcm's default
@@ -25,30 +27,54 @@ bool tcpq_server_answers(std::string_view url, int timeout_ms) noexcept {
   if (colon != std::string_view::npos) {
     const std::string_view digits = network.substr(colon + 1);
     const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), port);
-    if (error != std::errc() || end != digits.data() + digits.size() || port < 1 || port > 65535) return false;
+    if (error != std::errc() || end != digits.data() + digits.size() || port < 1 || port > 65535) return std::nullopt;
   }
   std::array<char, 16> text{};  // "255.255.255.255" and its terminator
-  if (host.size() >= text.size()) return false;
+  if (host.size() >= text.size()) return std::nullopt;
   host.copy(text.data(), host.size());
-  in_addr address{};
-  if (::inet_pton(AF_INET, text.data(), &address) != 1) return false;
-
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (fd < 0) return false;
   sockaddr_in server{};
   server.sin_family = AF_INET;
   server.sin_port = htons(static_cast<std::uint16_t>(port));
-  server.sin_addr = address;
-  bool answered = ::connect(fd, reinterpret_cast<const sockaddr*>(&server), sizeof server) == 0;
-  if (!answered && errno == EINPROGRESS) {
-    pollfd wait{fd, POLLOUT, 0};
+  if (::inet_pton(AF_INET, text.data(), &server.sin_addr) != 1) return std::nullopt;
+  return server;
+}
+
+bool tcpq_server_answers(std::string_view url, int timeout_ms) noexcept {
+  const std::optional<sockaddr_in> server = tcpq_server_address(url);
+  if (!server) return false;
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) return false;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  // Waits for `events` on the socket until the deadline.
+  const auto ready = [&](short events) {
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    pollfd wait{fd, events, 0};
+    return left.count() > 0 && ::poll(&wait, 1, static_cast<int>(left.count())) == 1 && (wait.revents & events) != 0;
+  };
+  bool connected = ::connect(fd, reinterpret_cast<const sockaddr*>(&*server), sizeof *server) == 0;
+  if (!connected && errno == EINPROGRESS && ready(POLLOUT)) {
     int error = 0;
     socklen_t length = sizeof error;
-    answered =
-        ::poll(&wait, 1, timeout_ms) == 1 && ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &length) == 0 && error == 0;
+    connected = ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &length) == 0 && error == 0;
   }
+  // LCM's tcpq handshake: the client's magic and protocol version out, the server's magic back
+  // (big-endian words). A server whose kernel queues the connection but whose process does not
+  // answer is not answering: liblcm would wait for that reply without a timeout.
+  constexpr std::uint32_t kClientMagic = 0x287617fb, kServerMagic = 0x287617fa, kVersion = 0x0100;
+  const std::array<std::uint32_t, 2> hello = {htonl(kClientMagic), htonl(kVersion)};
+  bool answered = connected && ::send(fd, hello.data(), sizeof hello, MSG_NOSIGNAL) == sizeof hello;
+  std::array<std::uint8_t, 8> reply{};
+  std::size_t received = 0;
+  while (answered && received < reply.size()) {
+    const ssize_t n = ready(POLLIN) ? ::recv(fd, reply.data() + received, reply.size() - received, 0) : -1;
+    if (n <= 0) answered = false;
+    if (n > 0) received += static_cast<std::size_t>(n);
+  }
+  std::uint32_t magic = 0;
+  std::memcpy(&magic, reply.data(), sizeof magic);
   ::close(fd);
-  return answered;
+  return answered && ntohl(magic) == kServerMagic;
 }
 
 }  // namespace sculpt::hal

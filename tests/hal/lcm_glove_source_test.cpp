@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -21,10 +22,18 @@
 
 #include "lcm_glove_source.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
+#include "sculpt/hal/tcpq_probe.hpp"
+#include "fake_tcpq_server.hpp"
 #include "sculpt_lcm/haptic_command_t.hpp"
 
 namespace sculpt::hal {
 namespace {
+
+using testing_support::accept_client;
+using testing_support::listen_on;
+using testing_support::LoopbackListener;
+using testing_support::send_word;
+using testing_support::serve_handshake;
 
 GloveSample make_sample(std::uint8_t hand, std::uint32_t sequence) {
   GloveSample s;
@@ -246,35 +255,6 @@ TEST(LcmGloveSource, BadUrlThrowsNamingItAndRestartWorks) {
   owned.stop();
 }
 
-// A listening socket on a free loopback port, for a tcpq server played by the test.
-class LoopbackListener {
- public:
-  LoopbackListener() : fd_(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof address;
-    if (fd_ < 0 || ::bind(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 || ::listen(fd_, 1) != 0 ||
-        ::getsockname(fd_, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
-      throw std::runtime_error("cannot listen on loopback");
-    }
-    port_ = ntohs(address.sin_port);
-  }
-  ~LoopbackListener() { close(); }
-  LoopbackListener(const LoopbackListener&) = delete;
-  LoopbackListener& operator=(const LoopbackListener&) = delete;
-  int fd() const { return fd_; }
-  std::string url() const { return "tcpq://127.0.0.1:" + std::to_string(port_); }
-  void close() {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = -1;
-  }
-
- private:
-  int fd_;
-  std::uint16_t port_ = 0;
-};
-
 // liblcm 1.3.1's tcpq instance has no socket while its server is unreachable, and handleTimeout
 // then hands -1 to FD_SET, which aborts the process: `sculpt run --lcm tcpq://...` with no server
 // died with "bit out of range". No server: start() says so. A server that answers and then hangs
@@ -299,16 +279,9 @@ TEST(LcmGloveSource, ATcpqServerMissingOrGoneIsAnErrorNotAnAbort) {
   LoopbackListener server;
   config.url = server.url();
   std::thread serve([&server] {
-    const int client = ::accept(server.fd(), nullptr, nullptr);
+    const int client = accept_client(server.fd());
     if (client < 0) return;
-    std::array<std::uint8_t, 8> hello{};
-    if (::recv(client, hello.data(), hello.size(), MSG_WAITALL) == static_cast<ssize_t>(hello.size())) {
-      const std::array<std::uint8_t, 8> answer = {0x28, 0x76, 0x17, 0xfa, 0x00, 0x00, 0x01, 0x00};
-      (void)::send(client, answer.data(), answer.size(), MSG_NOSIGNAL);
-      std::array<std::uint8_t, 64> subscription{};
-      (void)::recv(client, subscription.data(), subscription.size(), 0);
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
     ::close(client);
   });
   LcmGloveSource source(config, 8);
@@ -327,40 +300,6 @@ TEST(LcmGloveSource, ATcpqServerMissingOrGoneIsAnErrorNotAnAbort) {
   EXPECT_EQ(source.state(), SourceState::kStopped);
 }
 
-// The server's side of LCM's tcpq handshake on an accepted connection: the client's magic and
-// version in, the server's out (big-endian words), then the client's subscription. False when
-// the client sent no handshake (tcpq_server_answers' look, which connects and closes).
-bool serve_handshake(int client) {
-  std::array<std::uint8_t, 8> hello{};
-  if (::recv(client, hello.data(), hello.size(), MSG_WAITALL) != static_cast<ssize_t>(hello.size())) return false;
-  const std::array<std::uint8_t, 8> answer = {0x28, 0x76, 0x17, 0xfa, 0x00, 0x00, 0x01, 0x00};
-  (void)::send(client, answer.data(), answer.size(), MSG_NOSIGNAL);
-  std::array<std::uint8_t, 64> subscription{};
-  (void)::recv(client, subscription.data(), subscription.size(), 0);
-  return true;
-}
-
-void send_word(int client, std::uint32_t word) {
-  const std::uint32_t big = htonl(word);
-  (void)::send(client, &big, sizeof big, MSG_NOSIGNAL);
-}
-
-// A listening socket on a given loopback port (a server back after it went away).
-int listen_on(std::uint16_t port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  const int yes = 1;
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  address.sin_port = htons(port);
-  if (fd < 0 || ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes) != 0 ||
-      ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 || ::listen(fd, 4) != 0) {
-    if (fd >= 0) ::close(fd);
-    return -1;
-  }
-  return fd;
-}
-
 // A tcpq server that hangs up and comes back: the source used to stay disconnected until the
 // station was restarted (liblcm 1.3.1 reconnects only in its blocking handle()). It now looks
 // for the server every second and, once it answers, listens on a new instance: the glove's
@@ -371,10 +310,8 @@ TEST(LcmGloveSource, ATcpqServerThatComesBackIsListenedToAgain) {
   config.url = first.url();
   const auto port = static_cast<std::uint16_t>(std::stoi(config.url.substr(config.url.rfind(':') + 1)));
   std::thread hang_up([&first] {
-    const int client = ::accept(first.fd(), nullptr, nullptr);
-    if (client < 0) return;
-    serve_handshake(client);
-    ::close(client);
+    const int client = accept_client(first.fd());
+    if (client >= 0) ::close(client);
   });
   LcmGloveSource source(config, 8);
   source.start();
@@ -394,7 +331,8 @@ TEST(LcmGloveSource, ATcpqServerThatComesBackIsListenedToAgain) {
 
   const int back = listen_on(port);
   ASSERT_GE(back, 0) << "cannot listen on port " << port << " again";
-  // Every client is answered, as LCM's own server does: the look (which sends nothing), the new
+  // Every client is answered, as LCM's own server does: the look (which hangs up after the
+  // handshake), the new
   // instance (sent one sample), and the old instance, which liblcm connects once more while
   // destroying it (its destroy unsubscribes, and a tcpq instance without a socket connects to
   // unsubscribe).
@@ -426,6 +364,53 @@ TEST(LcmGloveSource, ATcpqServerThatComesBackIsListenedToAgain) {
   ::shutdown(back, SHUT_RDWR);  // wakes the accept
   serve.join();
   ::close(back);
+  EXPECT_EQ(source.state(), SourceState::kStopped);
+}
+
+// A tcpq server that hung up and then stopped answering (its process stopped or hung, or its
+// host gone from the network): the source's instance has no socket, and liblcm's destroy
+// connects to the server to unsubscribe and waits for its handshake, without a timeout. stop()
+// (the station's end, a scene's restart) waited with it, for ever here. It now returns at once.
+// The listener stands for that server: it never accepts, so its kernel queues the connects
+// (which then wait for a handshake that never comes) until the queue is full, and drops the
+// rest (which wait as for a host that has gone).
+TEST(LcmGloveSource, StopReturnsWhileTheTcpqServerDoesNotAnswer) {
+  LoopbackListener server;
+  LcmConfig config;
+  config.url = server.url();
+  std::thread hang_up([&server] {
+    const int client = accept_client(server.fd());
+    if (client >= 0) ::close(client);
+  });
+  LcmGloveSource source(config, 8);
+  source.start();
+  hang_up.join();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (source.counters().disconnects == 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_EQ(source.counters().disconnects, 1u);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1200));  // the source's looks get no answer
+  EXPECT_FALSE(tcpq_server_answers(config.url, 200));
+  EXPECT_EQ(source.counters().reconnects, 0u);
+
+  auto stopping = std::async(std::launch::async, [&source] { source.stop(); });
+  const bool returned = stopping.wait_for(std::chrono::seconds(3)) == std::future_status::ready;
+  EXPECT_TRUE(returned) << "stop() waited for a server that does not answer";
+  server.close();  // refused from here on: a connect or handshake still waiting fails
+  stopping.wait();
+  EXPECT_EQ(source.state(), SourceState::kStopped);
+}
+
+// start() looks before liblcm connects: a server that queues the connection and never answers
+// the handshake held the constructor of liblcm's instance, so start() never returned.
+TEST(LcmGloveSource, StartSaysNoServerAnsweredWhenTheServerDoesNotHandshake) {
+  LoopbackListener server;  // never accepts
+  LcmConfig config;
+  config.url = server.url();
+  LcmGloveSource source(config, 8);
+  EXPECT_EQ(testing_support::start_within_3_s(source, server),
+            "LCM glove source: no server answered at '" + config.url + "'");
   EXPECT_EQ(source.state(), SourceState::kStopped);
 }
 

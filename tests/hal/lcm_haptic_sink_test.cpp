@@ -1,17 +1,22 @@
 // LcmHapticSink over memq://: what the loop send()s comes out on the haptic channel as
-// decodable haptic_command_t, captured by a raw subscriber on the same instance.
+// decodable haptic_command_t, captured by a raw subscriber on the same instance. Over tcpq, to a
+// server played by the test: one that stops answering, and one that comes back.
 
 #include <gtest/gtest.h>
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <future>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "fake_tcpq_server.hpp"
 #include "lcm_haptic_sink.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/base/clock.hpp"
@@ -139,6 +144,86 @@ TEST(LcmHapticSink, BadUrlThrowsNamingIt) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("nosuchprovider://haptic"), std::string::npos) << e.what();
   }
+}
+
+// start() looks before liblcm connects: a server that queues the connection and never answers
+// the handshake held the constructor of liblcm's instance, so start() never returned.
+TEST(LcmHapticSink, StartSaysNoServerAnsweredWhenTheServerDoesNotHandshake) {
+  testing_support::LoopbackListener server;  // never accepts
+  LcmConfig config;
+  config.url = server.url();
+  LcmHapticSink sink(config, 4);
+  EXPECT_EQ(testing_support::start_within_3_s(sink, server),
+            "LCM haptic sink: no server answered at '" + config.url + "'");
+}
+
+// Sends `count` commands `gap` apart.
+void send_spaced(LcmHapticSink& sink, std::uint32_t first, std::uint32_t count, std::chrono::milliseconds gap) {
+  for (std::uint32_t t = first; t < first + count; ++t) {
+    EXPECT_TRUE(sink.send(make_command(t)));
+    std::this_thread::sleep_for(gap);
+  }
+}
+
+// A tcpq server that takes the sink's first command, hangs up, and then answers nothing (its
+// process stopped: the kernel still queues connects). liblcm's tcpq instance reconnects inside
+// publish(), and its connect and handshake have no timeout: the sink's thread waited there for
+// ever, and stop() with it (the station's end). Now the commands meanwhile are counted as not
+// published, and stop() returns.
+TEST(LcmHapticSink, ATcpqServerThatStopsAnsweringCostsItsCommandsNotTheSinksStop) {
+  testing_support::LoopbackListener server;
+  LcmConfig config;
+  config.url = server.url();
+  std::thread take_one([&server] {
+    const int client = testing_support::accept_client(server.fd());
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the command's last bytes
+    if (client >= 0) ::close(client);
+  });
+  LcmHapticSink sink(config, 64);
+  sink.start();
+  EXPECT_TRUE(sink.send(make_command(1)));
+  take_one.join();
+  send_spaced(sink, 2, 30, std::chrono::milliseconds(50));  // 1.5 s: a look or two, unanswered
+
+  auto stopping = std::async(std::launch::async, [&sink] { sink.stop(); });
+  const bool returned = stopping.wait_for(std::chrono::seconds(3)) == std::future_status::ready;
+  EXPECT_TRUE(returned) << "the sink waited for a server that does not answer";
+  server.close();  // refused from here on: a connect or handshake still waiting fails
+  stopping.wait();
+  EXPECT_EQ(sink.published() + sink.publish_errors(), 31u) << "each command published or counted";
+  EXPECT_GE(sink.published(), 1u);
+  EXPECT_GE(sink.publish_errors(), 29u);
+  EXPECT_EQ(sink.dropped(), 0u);
+}
+
+// A tcpq server that hangs up and comes back: once it answers a look, the sink publishes to it
+// again (liblcm reconnects inside the next publish).
+TEST(LcmHapticSink, ATcpqServerThatComesBackIsPublishedToAgain) {
+  testing_support::LoopbackListener server;
+  LcmConfig config;
+  config.url = server.url();
+  std::atomic<int> clients_heard{0};
+  std::thread serve([&server, &clients_heard] {
+    for (;;) {  // every client that sends after its handshake is heard, then hung up on
+      const int client = testing_support::accept_client(server.fd());
+      if (client < 0) return;
+      clients_heard.fetch_add(1);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the command's last bytes
+      ::close(client);
+    }
+  });
+  LcmHapticSink sink(config, 64);
+  sink.start();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  std::uint32_t tick = 1;
+  while (clients_heard.load() < 2 && std::chrono::steady_clock::now() < deadline) {
+    send_spaced(sink, tick++, 1, std::chrono::milliseconds(50));
+  }
+  EXPECT_GE(clients_heard.load(), 2) << "the sink did not publish after its server came back";
+  sink.stop();
+  ::shutdown(server.fd(), SHUT_RDWR);  // wakes the accept
+  serve.join();
+  EXPECT_GE(sink.published(), 2u);
 }
 
 }  // namespace

@@ -1,18 +1,25 @@
 #pragma once
-// Whether an LCM tcpq server answers, found without liblcm. liblcm 1.3.1 reconnects a tcpq
-// instance only inside its blocking handle() (which then waits for a message, so a reader could
-// not be stopped) or by making a new instance, whose connect to a host that has gone from the
-// network can block for minutes. A non-blocking connect with a short timeout tells first
-// whether a new instance would connect at once.
+// Whether an LCM tcpq server answers, found without liblcm. liblcm reconnects a tcpq instance
+// only inside its blocking handle() (which then waits for a message, so a reader could not be
+// stopped), when it publishes, or by making a new instance; each connects and then waits for the
+// server's handshake without a timeout, so a host gone from the network holds it for minutes and
+// a server process that is stopped or hung holds it for ever. A look with a short timeout tells
+// first whether liblcm would get through at once.
 
+#include <netinet/in.h>
+
+#include <optional>
 #include <string_view>
 
 namespace sculpt::hal {
 
-/// True when `url` is a tcpq URL (`tcpq://`, `tcpq://HOST`, `tcpq://HOST:PORT`, liblcm's default
-/// 127.0.0.1:7700) whose HOST is an IPv4 address in dotted form and whose server accepts a TCP
-/// connection within `timeout_ms`; the connection is closed at once. A host name is not looked
-/// up (a lookup can block as long as the connect): false.
+/// The server a tcpq URL names (`tcpq://`, `tcpq://HOST`, `tcpq://HOST:PORT`, liblcm's default
+/// 127.0.0.1:7700) when HOST is an IPv4 address in dotted form; nothing for any other URL. A host
+/// name is not looked up (a lookup can block as long as a connect): nothing.
+std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept;
+
+/// True when the server of `url` (tcpq_server_address) accepts a TCP connection and answers LCM's
+/// tcpq handshake, all within `timeout_ms`; the connection is closed at once.
 bool tcpq_server_answers(std::string_view url, int timeout_ms) noexcept;
 
 }  // namespace sculpt::hal
