@@ -26,20 +26,6 @@ constexpr std::chrono::milliseconds kErrorBackoff{50};
 constexpr std::chrono::milliseconds kReconnectPeriod{1000};
 constexpr int kProbeTimeoutMs = 200;
 
-// Destroys an instance the source made. liblcm's destroy unsubscribes, and a tcpq instance with
-// no socket connects to its server to do so and waits for the server's handshake: for minutes
-// when the server's host has gone, for ever when its process is stopped or hung. Unless the
-// server answers a look, the instance is destroyed on a thread of its own that nobody waits for
-// (when no thread can start, it is kept: a few kilobytes, rather than a stop that never returns).
-void let_go(std::unique_ptr<lcm::LCM> instance, const std::string& url) noexcept {
-  if (lcm_has_socket(*instance) || tcpq_server_answers(url, kProbeTimeoutMs)) return;  // destroyed here
-  lcm::LCM* const doomed = instance.release();
-  try {
-    std::thread([doomed] { delete doomed; }).detach();
-  } catch (...) {  // std::system_error: the instance stays
-  }
-}
-
 }  // namespace
 
 LcmGloveSource::LcmGloveSource(const LcmConfig& config, std::size_t queue_capacity)
@@ -91,7 +77,7 @@ void LcmGloveSource::stop() {
   stop_requested_.store(true, std::memory_order_release);
   thread_.join();
   if (owned_) {
-    let_go(std::move(owned_), config_.url);  // its subscription with it
+    destroy_without_waiting(std::move(owned_), config_.url);  // its subscription with it
     lcm_ = nullptr;
   } else {
     lcm_->unsubscribe(subscription_);

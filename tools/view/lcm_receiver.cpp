@@ -2,9 +2,12 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <chrono>
 #include <stdexcept>
+#include <utility>
 
 #include "sculpt/hal/lcm_handle.hpp"
+#include "sculpt/hal/tcpq_probe.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
 #include "sculpt_lcm/fingertip_state_t.hpp"
@@ -15,13 +18,34 @@ namespace {
 
 // How long one handleTimeout waits: only the latency of stopping.
 constexpr int kHandleTimeoutMs = 50;
+// Back-off while LCM reports errors, so a broken socket does not spin a core.
+constexpr std::chrono::milliseconds kErrorBackoff{50};
+// A tcpq server that went away is looked for this often, each look at most kLookTimeoutMs.
+constexpr std::chrono::milliseconds kLookPeriod{1000};
+constexpr int kLookTimeoutMs = 200;
 
 }  // namespace
 
-LcmReceiver::LcmReceiver(const std::string& url) : lcm_(std::make_unique<lcm::LCM>(url)) {
+LcmReceiver::LcmReceiver(const std::string& url) : url_(url) {
+  // A tcpq server that does not answer would hold liblcm's connect (tcpq_probe.hpp says why).
+  if (hal::tcpq_server_address(url) && !hal::tcpq_server_answers(url, kLookTimeoutMs)) {
+    throw std::runtime_error("no LCM server answered at '" + url + "'");
+  }
+  lcm_ = std::make_unique<lcm::LCM>(url);
   if (!lcm_->good()) throw std::runtime_error("cannot start LCM on '" + url + "'");
   if (!hal::lcm_has_socket(*lcm_)) throw std::runtime_error("no LCM server answered at '" + url + "'");
-  lcm_->subscribeFunction<sculpt_lcm::collision_event_t, LcmReceiver*>(
+  subscribe(*lcm_);
+  thread_ = std::thread([this] { receive(); });
+}
+
+LcmReceiver::~LcmReceiver() {
+  stop_ = true;
+  thread_.join();
+  hal::destroy_without_waiting(std::move(lcm_), url_);
+}
+
+void LcmReceiver::subscribe(lcm::LCM& lcm) {
+  lcm.subscribeFunction<sculpt_lcm::collision_event_t, LcmReceiver*>(
       logging::kCollisionChannel,
       [](const lcm::ReceiveBuffer*, const std::string&, const sculpt_lcm::collision_event_t* m, LcmReceiver* self) {
         logging::CollisionRecord record;
@@ -32,30 +56,49 @@ LcmReceiver::LcmReceiver(const std::string& url) : lcm_(std::make_unique<lcm::LC
         }
       },
       this);
-  lcm_->subscribeFunction<sculpt_lcm::fingertip_state_t, LcmReceiver*>(
+  lcm.subscribeFunction<sculpt_lcm::fingertip_state_t, LcmReceiver*>(
       logging::kFingertipChannel,
       [](const lcm::ReceiveBuffer*, const std::string&, const sculpt_lcm::fingertip_state_t* m, LcmReceiver* self) {
         self->push(FingertipSeen{
             m->tick, m->hand, m->finger, {m->registered[0], m->registered[1], m->registered[2]}, m->in_contact != 0});
       },
       this);
-  lcm_->subscribeFunction<sculpt_lcm::tick_stats_t, LcmReceiver*>(
+  lcm.subscribeFunction<sculpt_lcm::tick_stats_t, LcmReceiver*>(
       logging::kTickChannel,
       [](const lcm::ReceiveBuffer*, const std::string&, const sculpt_lcm::tick_stats_t* m, LcmReceiver* self) {
         self->push(TickSeen{m->tick, m->collisions, m->tick_time_us, m->budget_us, m->overruns});
       },
       this);
-  thread_ = std::thread([this] { receive(); });
 }
 
-LcmReceiver::~LcmReceiver() {
-  stop_ = true;
-  thread_.join();
+// A tcpq instance whose server went away has no socket and would never deliver again: once the
+// server answers a look, a new instance takes its place (the old one goes without waiting on the
+// server). What was sent meanwhile is missed, as a burst dropped by UDP is: the viewer's copy
+// finds the gap in the collisions' numbers and catches up from the durable log or says it
+// diverged.
+bool LcmReceiver::reconnect() {
+  if (!hal::tcpq_server_answers(url_, kLookTimeoutMs)) return false;
+  auto fresh = std::make_unique<lcm::LCM>(url_);
+  if (!fresh->good() || !hal::lcm_has_socket(*fresh)) return false;
+  subscribe(*fresh);
+  std::swap(lcm_, fresh);
+  hal::destroy_without_waiting(std::move(fresh), url_);
+  ++reconnects_;
+  return true;
 }
 
 void LcmReceiver::receive() {
+  auto next_look = std::chrono::steady_clock::now();
   while (!stop_) {
-    if (hal::lcm_handle_within(*lcm_, kHandleTimeoutMs) < 0) return;
+    if (hal::lcm_handle_within(*lcm_, kHandleTimeoutMs) >= 0) continue;
+    if (!hal::lcm_has_socket(*lcm_) && std::chrono::steady_clock::now() >= next_look) {
+      next_look = std::chrono::steady_clock::now() + kLookPeriod;
+      try {
+        if (reconnect()) continue;
+      } catch (const std::exception&) {  // the new instance's allocations: try again at the next look
+      }
+    }
+    std::this_thread::sleep_for(kErrorBackoff);
   }
 }
 

@@ -26,7 +26,9 @@ using LiveMessage = std::variant<logging::CollisionRecord, FingertipSeen, TickSe
 class LcmReceiver {
  public:
   /// Subscribes to SCULPT_COLLISION, SCULPT_FINGERTIP and SCULPT_TICK on `url` and starts
-  /// receiving. @throw std::runtime_error when LCM cannot be started on `url`.
+  /// receiving. @throw std::runtime_error when LCM cannot be started on `url`, or when it is a
+  /// tcpq URL whose server does not answer. A tcpq server that goes away is listened to again
+  /// once it answers (looked for every second).
   explicit LcmReceiver(const std::string& url);
   ~LcmReceiver();
   LcmReceiver(const LcmReceiver&) = delete;
@@ -36,16 +38,22 @@ class LcmReceiver {
   std::vector<LiveMessage> take();
   /// Collision events that did not decode (counted, not shown).
   std::size_t undecodable() const { return undecodable_.load(); }
+  /// New instances made after a tcpq server went away and answered again.
+  std::size_t reconnects() const { return reconnects_.load(); }
 
  private:
+  void subscribe(lcm::LCM& lcm);
+  bool reconnect();
   void receive();
   void push(LiveMessage message);
 
-  std::unique_ptr<lcm::LCM> lcm_;
+  std::string url_;
+  std::unique_ptr<lcm::LCM> lcm_;  // the receiving thread's once it runs
   std::mutex mutex_;
   std::vector<LiveMessage> queue_;
   std::atomic<bool> stop_{false};
   std::atomic<std::size_t> undecodable_{0};
+  std::atomic<std::size_t> reconnects_{0};
   std::thread thread_;
 };
 

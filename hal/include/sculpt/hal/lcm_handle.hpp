@@ -4,6 +4,9 @@
 // up; FD_SET(-1) then ends the process (glibc's fortified FD_SET: "bit out of range"). A station
 // started with a tcpq URL and no server, or whose server went away, died that way.
 
+#include <memory>
+#include <string_view>
+
 namespace lcm {
 class LCM;
 }  // namespace lcm
@@ -17,5 +20,13 @@ bool lcm_has_socket(lcm::LCM& lcm) noexcept;
 /// has no socket to wait on. This does not reconnect a tcpq instance: its reader reports it
 /// disconnected (the station's glove goes stale), and may make a new one (LcmGloveSource).
 int lcm_handle_within(lcm::LCM& lcm, int timeout_ms) noexcept;
+
+/// Destroys `instance`, made on `url`, without waiting on its server. liblcm's destroy
+/// unsubscribes, and a tcpq instance with no socket connects to its server to do so and waits
+/// for the server's handshake: for minutes when the server's host has gone, for ever when its
+/// process is stopped or hung (tcpq_probe.hpp). Unless the server answers a look (200 ms), such
+/// an instance is destroyed on a thread of its own that nobody waits for; when no thread can
+/// start, it is kept (a few kilobytes, rather than a stop that never returns).
+void destroy_without_waiting(std::unique_ptr<lcm::LCM> instance, std::string_view url) noexcept;
 
 }  // namespace sculpt::hal
