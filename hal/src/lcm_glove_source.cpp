@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <utility>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -77,7 +78,7 @@ void LcmGloveSource::stop() {
   stop_requested_.store(true, std::memory_order_release);
   thread_.join();
   if (owned_) {
-    destroy_without_waiting(std::move(owned_), config_.url);  // its subscription with it
+    destroy_without_waiting(std::move(owned_), config_.url, {subscription_});
     lcm_ = nullptr;
   } else {
     lcm_->unsubscribe(subscription_);
@@ -132,11 +133,12 @@ bool LcmGloveSource::reconnect() noexcept {
     lcm::Subscription* subscription =
         fresh->subscribeFunction(config_.glove_channel, &LcmGloveSource::on_message, this);
     if (subscription == nullptr || !lcm_has_socket(*fresh)) return false;
-    // The old instance goes, and its subscription with it. liblcm's destroy unsubscribes, and a
-    // tcpq instance without a socket connects to do so: quick, as the server just answered.
-    owned_ = std::move(fresh);
+    // The old instance goes, and its subscription with it (a tcpq instance without a socket
+    // connects to unsubscribe: quick, as the server just answered).
+    std::swap(owned_, fresh);
     lcm_ = owned_.get();
-    subscription_ = subscription;
+    lcm::Subscription* const old_subscription = std::exchange(subscription_, subscription);
+    destroy_without_waiting(std::move(fresh), config_.url, {old_subscription});
     return true;
   } catch (...) {  // the instance's allocations: try again at the next look
     return false;

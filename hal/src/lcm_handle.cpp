@@ -2,11 +2,17 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <atomic>
 #include <thread>
 
 #include "sculpt/hal/tcpq_probe.hpp"
 
 namespace sculpt::hal {
+namespace {
+
+std::atomic<std::size_t> in_flight{0};  // destroy_without_waiting's threads still running
+
+}  // namespace
 
 bool lcm_has_socket(lcm::LCM& lcm) noexcept { return lcm.getFileno() >= 0; }
 
@@ -15,14 +21,38 @@ int lcm_handle_within(lcm::LCM& lcm, int timeout_ms) noexcept {
   return lcm.handleTimeout(timeout_ms);
 }
 
-void destroy_without_waiting(std::unique_ptr<lcm::LCM> instance, std::string_view url) noexcept {
+void destroy_without_waiting(std::unique_ptr<lcm::LCM> instance, std::string_view url,
+                             std::vector<lcm::Subscription*> subscriptions) noexcept {
+  if (!instance) return;
+  // Each subscription is undone before the instance goes: liblcm 1.3's destroy undoes them by
+  // walking its handler list while removing from it, and misses every other one (a tcpq
+  // instance then leaks that channel's name, which the leak checker finds).
+  const auto destroy = [](lcm::LCM* doomed, const std::vector<lcm::Subscription*>& listed) {
+    for (lcm::Subscription* subscription : listed) {
+      if (subscription != nullptr) doomed->unsubscribe(subscription);
+    }
+    delete doomed;
+  };
   constexpr int kLookTimeoutMs = 200;
-  if (!instance || lcm_has_socket(*instance) || tcpq_server_answers(url, kLookTimeoutMs)) return;  // destroyed here
+  // Only a tcpq instance connects while it is destroyed: any other goes here and now (a log
+  // file's provider, say, which must be closed before the program ends).
+  const bool tcpq = url.substr(0, 7) == "tcpq://";
   lcm::LCM* const doomed = instance.release();
+  if (!tcpq || lcm_has_socket(*doomed) || tcpq_server_answers(url, kLookTimeoutMs)) {
+    destroy(doomed, subscriptions);
+    return;
+  }
+  in_flight.fetch_add(1, std::memory_order_relaxed);
   try {
-    std::thread([doomed] { delete doomed; }).detach();
+    std::thread([doomed, listed = std::move(subscriptions), destroy] {
+      destroy(doomed, listed);
+      in_flight.fetch_sub(1, std::memory_order_release);
+    }).detach();
   } catch (...) {  // std::system_error: the instance stays
+    in_flight.fetch_sub(1, std::memory_order_relaxed);
   }
 }
+
+std::size_t lcm_destroys_in_flight() noexcept { return in_flight.load(std::memory_order_acquire); }
 
 }  // namespace sculpt::hal

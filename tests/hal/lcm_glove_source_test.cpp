@@ -21,6 +21,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "lcm_glove_source.hpp"
+#include "sculpt/hal/lcm_handle.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/hal/tcpq_probe.hpp"
 #include "fake_tcpq_server.hpp"
@@ -400,6 +401,12 @@ TEST(LcmGloveSource, StopReturnsWhileTheTcpqServerDoesNotAnswer) {
   server.close();  // refused from here on: a connect or handshake still waiting fails
   stopping.wait();
   EXPECT_EQ(source.state(), SourceState::kStopped);
+  // The instance was let go on a thread of its own, which the refusal now ends.
+  const auto deadline_gone = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (lcm_destroys_in_flight() > 0 && std::chrono::steady_clock::now() < deadline_gone) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(lcm_destroys_in_flight(), 0u);
 }
 
 // start() looks before liblcm connects: a server that queues the connection and never answers

@@ -20,6 +20,7 @@
 
 #include "hal/fake_tcpq_server.hpp"
 #include "lcm_receiver.hpp"
+#include "sculpt/hal/lcm_handle.hpp"
 #include "sculpt/logging/channels.hpp"
 #include "sculpt_lcm/tick_stats_t.hpp"
 
@@ -59,21 +60,22 @@ TEST(LcmReceiver, ATcpqServerThatHangsUpAndComesBackIsHeardAgain) {
   support::LoopbackListener server;
   std::atomic<bool> hung_up{false};
   std::thread serve([&server, &hung_up] {
-    // The first instance hears tick 1, then the server hangs up; the next one hears tick 2 and
-    // is kept until the test ends.
+    // The first instance hears tick 1, then the server hangs up. Every client after that is
+    // answered, as LCM's own server answers its clients at once: the looks, the new instance
+    // (which hears tick 2 and is kept until the test ends), and the old instance, which liblcm
+    // connects once more while destroying it (to unsubscribe).
     int client = support::accept_client(server.fd());
     if (client < 0) return;
     forward_tick(client, 1);
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     ::close(client);
     hung_up = true;
-    client = support::accept_client(server.fd());
-    if (client < 0) return;
-    forward_tick(client, 2);
-    std::array<std::uint8_t, 64> rest{};
-    while (::recv(client, rest.data(), rest.size(), 0) > 0) {
+    std::vector<int> kept;
+    for (client = support::accept_client(server.fd()); client >= 0; client = support::accept_client(server.fd())) {
+      if (kept.empty()) forward_tick(client, 2);
+      kept.push_back(client);
     }
-    ::close(client);
+    for (const int c : kept) ::close(c);
   });
   {
     LcmReceiver receiver(server.url());
@@ -84,6 +86,9 @@ TEST(LcmReceiver, ATcpqServerThatHangsUpAndComesBackIsHeardAgain) {
   }
   ::shutdown(server.fd(), SHUT_RDWR);  // wakes an accept still waiting
   serve.join();
+  // The old instance went while its server answered: destroyed there and then, not on a thread
+  // of its own (one still running when the test ends looks like a leak to the leak checker).
+  EXPECT_EQ(hal::lcm_destroys_in_flight(), 0u);
 }
 
 // liblcm's instance waits for a tcpq server's handshake without a timeout: against a server that

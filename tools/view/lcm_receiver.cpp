@@ -34,18 +34,19 @@ LcmReceiver::LcmReceiver(const std::string& url) : url_(url) {
   lcm_ = std::make_unique<lcm::LCM>(url);
   if (!lcm_->good()) throw std::runtime_error("cannot start LCM on '" + url + "'");
   if (!hal::lcm_has_socket(*lcm_)) throw std::runtime_error("no LCM server answered at '" + url + "'");
-  subscribe(*lcm_);
+  subscriptions_ = subscribe(*lcm_);
   thread_ = std::thread([this] { receive(); });
 }
 
 LcmReceiver::~LcmReceiver() {
   stop_ = true;
   thread_.join();
-  hal::destroy_without_waiting(std::move(lcm_), url_);
+  hal::destroy_without_waiting(std::move(lcm_), url_, std::move(subscriptions_));
 }
 
-void LcmReceiver::subscribe(lcm::LCM& lcm) {
-  lcm.subscribeFunction<sculpt_lcm::collision_event_t, LcmReceiver*>(
+std::vector<lcm::Subscription*> LcmReceiver::subscribe(lcm::LCM& lcm) {
+  std::vector<lcm::Subscription*> made;
+  made.push_back(lcm.subscribeFunction<sculpt_lcm::collision_event_t, LcmReceiver*>(
       logging::kCollisionChannel,
       [](const lcm::ReceiveBuffer*, const std::string&, const sculpt_lcm::collision_event_t* m, LcmReceiver* self) {
         logging::CollisionRecord record;
@@ -55,20 +56,21 @@ void LcmReceiver::subscribe(lcm::LCM& lcm) {
           ++self->undecodable_;
         }
       },
-      this);
-  lcm.subscribeFunction<sculpt_lcm::fingertip_state_t, LcmReceiver*>(
+      this));
+  made.push_back(lcm.subscribeFunction<sculpt_lcm::fingertip_state_t, LcmReceiver*>(
       logging::kFingertipChannel,
       [](const lcm::ReceiveBuffer*, const std::string&, const sculpt_lcm::fingertip_state_t* m, LcmReceiver* self) {
         self->push(FingertipSeen{
             m->tick, m->hand, m->finger, {m->registered[0], m->registered[1], m->registered[2]}, m->in_contact != 0});
       },
-      this);
-  lcm.subscribeFunction<sculpt_lcm::tick_stats_t, LcmReceiver*>(
+      this));
+  made.push_back(lcm.subscribeFunction<sculpt_lcm::tick_stats_t, LcmReceiver*>(
       logging::kTickChannel,
       [](const lcm::ReceiveBuffer*, const std::string&, const sculpt_lcm::tick_stats_t* m, LcmReceiver* self) {
         self->push(TickSeen{m->tick, m->collisions, m->tick_time_us, m->budget_us, m->overruns});
       },
-      this);
+      this));
+  return made;
 }
 
 // A tcpq instance whose server went away has no socket and would never deliver again: once the
@@ -80,9 +82,10 @@ bool LcmReceiver::reconnect() {
   if (!hal::tcpq_server_answers(url_, kLookTimeoutMs)) return false;
   auto fresh = std::make_unique<lcm::LCM>(url_);
   if (!fresh->good() || !hal::lcm_has_socket(*fresh)) return false;
-  subscribe(*fresh);
+  std::vector<lcm::Subscription*> made = subscribe(*fresh);
   std::swap(lcm_, fresh);
-  hal::destroy_without_waiting(std::move(fresh), url_);
+  std::swap(subscriptions_, made);
+  hal::destroy_without_waiting(std::move(fresh), url_, std::move(made));
   ++reconnects_;
   return true;
 }

@@ -17,7 +17,8 @@
 
 namespace lcm {
 class LCM;
-}
+class Subscription;
+}  // namespace lcm
 
 namespace sculpt::view {
 
@@ -42,13 +43,14 @@ class LcmReceiver {
   std::size_t reconnects() const { return reconnects_.load(); }
 
  private:
-  void subscribe(lcm::LCM& lcm);
+  std::vector<lcm::Subscription*> subscribe(lcm::LCM& lcm);
   bool reconnect();
   void receive();
   void push(LiveMessage message);
 
   std::string url_;
-  std::unique_ptr<lcm::LCM> lcm_;  // the receiving thread's once it runs
+  std::unique_ptr<lcm::LCM> lcm_;  // the receiving thread's once it runs, as are its subscriptions
+  std::vector<lcm::Subscription*> subscriptions_;
   std::mutex mutex_;
   std::vector<LiveMessage> queue_;
   std::atomic<bool> stop_{false};

@@ -4,11 +4,14 @@
 // up; FD_SET(-1) then ends the process (glibc's fortified FD_SET: "bit out of range"). A station
 // started with a tcpq URL and no server, or whose server went away, died that way.
 
+#include <cstddef>
 #include <memory>
 #include <string_view>
+#include <vector>
 
 namespace lcm {
 class LCM;
+class Subscription;
 }  // namespace lcm
 
 namespace sculpt::hal {
@@ -27,6 +30,13 @@ int lcm_handle_within(lcm::LCM& lcm, int timeout_ms) noexcept;
 /// process is stopped or hung (tcpq_probe.hpp). Unless the server answers a look (200 ms), such
 /// an instance is destroyed on a thread of its own that nobody waits for; when no thread can
 /// start, it is kept (a few kilobytes, rather than a stop that never returns).
-void destroy_without_waiting(std::unique_ptr<lcm::LCM> instance, std::string_view url) noexcept;
+/// `subscriptions` (made on `instance`) are undone first, where it is destroyed.
+void destroy_without_waiting(std::unique_ptr<lcm::LCM> instance, std::string_view url,
+                             std::vector<lcm::Subscription*> subscriptions = {}) noexcept;
+
+/// How many instances destroy_without_waiting() handed to a thread of their own are still being
+/// destroyed (for tests: a program that ends sooner leaves them unfinished, which is harmless
+/// but looks like a leak to the leak checker).
+std::size_t lcm_destroys_in_flight() noexcept;
 
 }  // namespace sculpt::hal
