@@ -22,10 +22,6 @@ namespace {
 constexpr int kHandleTimeoutMs = 50;
 // Back-off while LCM reports errors, so a broken socket does not spin a core.
 constexpr std::chrono::milliseconds kErrorBackoff{50};
-// A tcpq server that went away is looked for this often, each look a connect of at most
-// kProbeTimeoutMs (stop() waits for one at most).
-constexpr std::chrono::milliseconds kReconnectPeriod{1000};
-constexpr int kProbeTimeoutMs = 200;
 
 }  // namespace
 
@@ -40,20 +36,7 @@ LcmGloveSource::~LcmGloveSource() { stop(); }
 void LcmGloveSource::start() {
   if (thread_.joinable()) throw std::runtime_error("LCM glove source: already started");
   if (lcm_ == nullptr) {  // not shared (or closed by a previous stop)
-    // A tcpq server that does not answer would hold liblcm's connect (the look says why).
-    if (tcpq_server_address(config_.url) && !tcpq_server_answers(config_.url, kProbeTimeoutMs)) {
-      throw std::runtime_error("LCM glove source: no server answered at '" + config_.url + "'");
-    }
-    owned_ = std::make_unique<lcm::LCM>(config_.url);
-    if (!owned_->good()) {
-      owned_.reset();
-      throw std::runtime_error("LCM glove source: cannot open LCM at '" + config_.url + "'");
-    }
-    // A tcpq instance whose server did not answer has no socket, and would never deliver.
-    if (!lcm_has_socket(*owned_)) {
-      owned_.reset();
-      throw std::runtime_error("LCM glove source: no server answered at '" + config_.url + "'");
-    }
+    owned_ = open_lcm(config_.url, "LCM glove source");
     lcm_ = owned_.get();
   }
   // A raw subscription: LCM's typed handlers drop a message that fails to decode with a line
@@ -126,23 +109,23 @@ void LcmGloveSource::handle(const void* data, std::uint32_t size) noexcept {
 }
 
 bool LcmGloveSource::reconnect() noexcept {
-  if (!tcpq_server_answers(config_.url, kProbeTimeoutMs)) return false;
+  std::unique_ptr<lcm::LCM> fresh = reopen_lcm(config_.url);
+  if (!fresh) return false;
+  lcm::Subscription* subscription = nullptr;
   try {
-    auto fresh = std::make_unique<lcm::LCM>(config_.url);
-    if (!fresh->good() || !lcm_has_socket(*fresh)) return false;
-    lcm::Subscription* subscription =
-        fresh->subscribeFunction(config_.glove_channel, &LcmGloveSource::on_message, this);
-    if (subscription == nullptr || !lcm_has_socket(*fresh)) return false;
-    // The old instance goes, and its subscription with it (a tcpq instance without a socket
-    // connects to unsubscribe: quick, as the server just answered).
-    std::swap(owned_, fresh);
-    lcm_ = owned_.get();
-    lcm::Subscription* const old_subscription = std::exchange(subscription_, subscription);
-    destroy_without_waiting(std::move(fresh), config_.url, {old_subscription});
-    return true;
-  } catch (...) {  // the instance's allocations: try again at the next look
+    subscription = fresh->subscribeFunction(config_.glove_channel, &LcmGloveSource::on_message, this);
+  } catch (...) {  // its allocation: the server is looked for again at the next look
+  }
+  if (subscription == nullptr || !lcm_has_socket(*fresh)) {
+    destroy_without_waiting(std::move(fresh), config_.url, {subscription});
     return false;
   }
+  // The old instance goes, and its subscription with it, without waiting on its server.
+  std::swap(owned_, fresh);
+  lcm_ = owned_.get();
+  lcm::Subscription* const old_subscription = std::exchange(subscription_, subscription);
+  destroy_without_waiting(std::move(fresh), config_.url, {old_subscription});
+  return true;
 }
 
 void LcmGloveSource::run() noexcept {
@@ -154,7 +137,7 @@ void LcmGloveSource::run() noexcept {
       }
       // An owned tcpq instance without a socket lost its server: a new one once it answers.
       if (owned_ && !lcm_has_socket(*lcm_) && std::chrono::steady_clock::now() >= next_look) {
-        next_look = std::chrono::steady_clock::now() + kReconnectPeriod;
+        next_look = std::chrono::steady_clock::now() + kTcpqLookPeriod;
         if (reconnect()) continue;
       }
       std::this_thread::sleep_for(kErrorBackoff);

@@ -27,9 +27,8 @@ namespace sculpt::hal {
 /// counted as framing errors and skipped; the handler never throws. Sequence gaps are counted
 /// per hand. State: kConnected from start() (LCM has no connection to lose), kDisconnected
 /// while LCM reports errors, kStopped after stop(). An owned tcpq instance whose server went
-/// away is replaced by a new one once the server answers again (looked for every second with a
-/// 200 ms connect and handshake, tcpq_server_answers(): a server named by its IPv4 address only),
-/// so the glove comes back live without a restart; counted as a reconnect once a message or a
+/// away is replaced by a new one once the server answers again (reopen_lcm(), looked for every
+/// kTcpqLookPeriod: a server named by its IPv4 address only), so the glove comes back live without a restart; counted as a reconnect once a message or a
 /// quiet wait succeeds on it. start() looks first, and stop() never waits on a server that does
 /// not answer a look (liblcm's connect and handshake have no timeout: tcpq_probe.hpp).
 class LcmGloveSource final : public GloveSource {

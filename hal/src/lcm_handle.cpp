@@ -3,6 +3,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <atomic>
+#include <stdexcept>
 #include <thread>
 
 #include "sculpt/hal/tcpq_probe.hpp"
@@ -13,6 +14,31 @@ namespace {
 std::atomic<std::size_t> in_flight{0};  // destroy_without_waiting's threads still running
 
 }  // namespace
+
+std::unique_ptr<lcm::LCM> open_lcm(const std::string& url, std::string_view who) {
+  const auto failure = [&](std::string_view what) {
+    return std::runtime_error(std::string(who) + ": " + std::string(what) + " at '" + url + "'");
+  };
+  if (tcpq_server_address(url) && !tcpq_server_answers(url, kTcpqLookTimeoutMs)) {
+    throw failure("no server answered");
+  }
+  auto made = std::make_unique<lcm::LCM>(url);
+  if (!made->good()) throw failure("cannot open LCM");
+  // A tcpq instance whose server went between the look and the connect (or whose host name
+  // could not be looked at) has no socket, and would never deliver.
+  if (!lcm_has_socket(*made)) throw failure("no server answered");
+  return made;
+}
+
+std::unique_ptr<lcm::LCM> reopen_lcm(const std::string& url) noexcept {
+  if (!tcpq_server_answers(url, kTcpqLookTimeoutMs)) return nullptr;
+  try {
+    auto made = std::make_unique<lcm::LCM>(url);
+    if (made->good() && lcm_has_socket(*made)) return made;
+  } catch (...) {  // the instance's allocations: nothing, looked for again later
+  }
+  return nullptr;
+}
 
 bool lcm_has_socket(lcm::LCM& lcm) noexcept { return lcm.getFileno() >= 0; }
 
@@ -33,12 +59,10 @@ void destroy_without_waiting(std::unique_ptr<lcm::LCM> instance, std::string_vie
     }
     delete doomed;
   };
-  constexpr int kLookTimeoutMs = 200;
   // Only a tcpq instance connects while it is destroyed: any other goes here and now (a log
   // file's provider, say, which must be closed before the program ends).
-  const bool tcpq = url.substr(0, 7) == "tcpq://";
   lcm::LCM* const doomed = instance.release();
-  if (!tcpq || lcm_has_socket(*doomed) || tcpq_server_answers(url, kLookTimeoutMs)) {
+  if (!is_tcpq_url(url) || lcm_has_socket(*doomed) || tcpq_server_answers(url, kTcpqLookTimeoutMs)) {
     destroy(doomed, subscriptions);
     return;
   }

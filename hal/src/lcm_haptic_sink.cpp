@@ -16,9 +16,6 @@ namespace {
 // haptic_command_t is fixed-size (86 bytes with its hash): one stack buffer serves every
 // message, so the thread's own work allocates nothing (LCM's publish still does).
 constexpr std::size_t kMaxEncodedSize = 256;
-// A tcpq server that went away is looked for this often, each look at most kLookTimeoutMs.
-constexpr std::chrono::milliseconds kLookPeriod{1000};
-constexpr int kLookTimeoutMs = 200;
 
 }  // namespace
 
@@ -34,29 +31,20 @@ LcmHapticSink::~LcmHapticSink() { stop(); }
 void LcmHapticSink::start() {
   if (thread_.joinable()) throw std::runtime_error("LCM haptic sink: already started");
   if (lcm_ == nullptr) {  // not shared (or closed by a previous stop)
-    // A tcpq server that does not answer would hold liblcm's connect (tcpq_probe.hpp says why).
-    if (tcpq_server_address(config_.url) && !tcpq_server_answers(config_.url, kLookTimeoutMs)) {
-      throw std::runtime_error("LCM haptic sink: no server answered at '" + config_.url + "'");
-    }
-    owned_ = std::make_unique<lcm::LCM>(config_.url);
-    if (!owned_->good()) {
-      owned_.reset();
-      throw std::runtime_error("LCM haptic sink: cannot open LCM at '" + config_.url + "'");
-    }
+    owned_ = open_lcm(config_.url, "LCM haptic sink");
     lcm_ = owned_.get();
   }
-  tcpq_ = config_.url.rfind("tcpq://", 0) == 0;
   next_look_ = std::chrono::steady_clock::now();
   stop_requested_.store(false, std::memory_order_relaxed);
   thread_ = std::thread([this] { run(); });
 }
 
 bool LcmHapticSink::may_publish() noexcept {
-  if (!owned_ || !tcpq_ || lcm_has_socket(*lcm_)) return true;
+  if (!owned_ || !is_tcpq_url(config_.url) || lcm_has_socket(*lcm_)) return true;
   const auto now = std::chrono::steady_clock::now();
   if (now < next_look_) return false;
-  next_look_ = now + kLookPeriod;
-  return tcpq_server_answers(config_.url, kLookTimeoutMs);
+  next_look_ = now + kTcpqLookPeriod;
+  return tcpq_server_answers(config_.url, kTcpqLookTimeoutMs);
 }
 
 void LcmHapticSink::stop() {

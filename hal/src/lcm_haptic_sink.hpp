@@ -65,7 +65,6 @@ class LcmHapticSink final : public HapticSink {
   base::SpscQueue<HapticCommand> queue_;
   std::atomic<std::uint64_t> dropped_{0}, publish_errors_{0};
   DeliveryCounts published_;
-  bool tcpq_ = false;                                  // the owned instance is tcpq's
   std::chrono::steady_clock::time_point next_look_{};  // the sink thread's
   std::atomic<bool> stop_requested_{false};
   std::thread thread_;

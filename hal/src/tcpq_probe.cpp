@@ -16,9 +16,8 @@
 namespace sculpt::hal {
 
 std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept {
-  constexpr std::string_view kScheme = "tcpq://";
-  if (url.substr(0, kScheme.size()) != kScheme) return std::nullopt;
-  std::string_view network = url.substr(kScheme.size());
+  if (!is_tcpq_url(url)) return std::nullopt;
+  std::string_view network = url.substr(kTcpqScheme.size());
   network = network.substr(0, network.find('?'));
   if (network.empty()) network = "127.0.0.1:7700";  // liblcm's default
   const std::size_t colon = network.find(':');

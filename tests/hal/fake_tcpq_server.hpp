@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace sculpt::hal::testing_support {
 
@@ -109,6 +110,18 @@ std::string start_within_3_s(Device& device, LoopbackListener& server) {
   server.close();
   const std::string said = starting.get();
   return returned ? said : "still starting after 3 s";
+}
+
+// Waits until `done()` holds, calling it every 5 ms for up to 10 s (these tests wait on looks a
+// second apart, and a loaded machine is slow at times); what done() says at the end.
+template <typename Done>
+bool eventually(const Done& done) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return done();
 }
 
 }  // namespace sculpt::hal::testing_support

@@ -31,6 +31,7 @@ namespace sculpt::hal {
 namespace {
 
 using testing_support::accept_client;
+using testing_support::eventually;
 using testing_support::listen_on;
 using testing_support::LoopbackListener;
 using testing_support::send_word;
@@ -289,10 +290,7 @@ TEST(LcmGloveSource, ATcpqServerMissingOrGoneIsAnErrorNotAnAbort) {
   source.start();
   serve.join();
   server.close();
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  while (source.counters().disconnects == 0 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  eventually([&] { return source.counters().disconnects > 0; });
   EXPECT_EQ(source.counters().disconnects, 1u);
   // Still running, through several back-offs, on an instance with no socket.
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -318,14 +316,7 @@ TEST(LcmGloveSource, ATcpqServerThatComesBackIsListenedToAgain) {
   source.start();
   hang_up.join();
   first.close();  // gone: the looks are refused
-  const auto wait_for = [](const auto& done) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while (!done() && std::chrono::steady_clock::now() < deadline) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    return done();
-  };
-  ASSERT_TRUE(wait_for([&] { return source.counters().disconnects == 1; }));
+  ASSERT_TRUE(eventually([&] { return source.counters().disconnects == 1; }));
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // a look or two finds nothing
   EXPECT_EQ(source.state(), SourceState::kDisconnected);
   EXPECT_EQ(source.counters().reconnects, 0u);
@@ -356,10 +347,10 @@ TEST(LcmGloveSource, ATcpqServerThatComesBackIsListenedToAgain) {
   });
   std::array<GloveSample, 4> out{};
   std::size_t received = 0;
-  EXPECT_TRUE(wait_for([&] { return (received += source.poll(out)) > 0; }));
+  EXPECT_TRUE(eventually([&] { return (received += source.poll(out)) > 0; }));
   EXPECT_EQ(received, 1u);
   EXPECT_EQ(out[0].sequence, 7u);
-  EXPECT_TRUE(wait_for([&] { return source.state() == SourceState::kConnected; }));
+  EXPECT_TRUE(eventually([&] { return source.state() == SourceState::kConnected; }));
   EXPECT_EQ(source.counters().reconnects, 1u);
   source.stop();
   ::shutdown(back, SHUT_RDWR);  // wakes the accept
@@ -386,10 +377,7 @@ TEST(LcmGloveSource, StopReturnsWhileTheTcpqServerDoesNotAnswer) {
   LcmGloveSource source(config, 8);
   source.start();
   hang_up.join();
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (source.counters().disconnects == 0 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  eventually([&] { return source.counters().disconnects > 0; });
   ASSERT_EQ(source.counters().disconnects, 1u);
   std::this_thread::sleep_for(std::chrono::milliseconds(1200));  // the source's looks get no answer
   EXPECT_FALSE(tcpq_server_answers(config.url, 200));
@@ -402,11 +390,7 @@ TEST(LcmGloveSource, StopReturnsWhileTheTcpqServerDoesNotAnswer) {
   stopping.wait();
   EXPECT_EQ(source.state(), SourceState::kStopped);
   // The instance was let go on a thread of its own, which the refusal now ends.
-  const auto deadline_gone = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (lcm_destroys_in_flight() > 0 && std::chrono::steady_clock::now() < deadline_gone) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  EXPECT_EQ(lcm_destroys_in_flight(), 0u);
+  EXPECT_TRUE(eventually([] { return lcm_destroys_in_flight() == 0; }));
 }
 
 // start() looks before liblcm connects: a server that queues the connection and never answers

@@ -20,20 +20,10 @@ namespace {
 constexpr int kHandleTimeoutMs = 50;
 // Back-off while LCM reports errors, so a broken socket does not spin a core.
 constexpr std::chrono::milliseconds kErrorBackoff{50};
-// A tcpq server that went away is looked for this often, each look at most kLookTimeoutMs.
-constexpr std::chrono::milliseconds kLookPeriod{1000};
-constexpr int kLookTimeoutMs = 200;
 
 }  // namespace
 
-LcmReceiver::LcmReceiver(const std::string& url) : url_(url) {
-  // A tcpq server that does not answer would hold liblcm's connect (tcpq_probe.hpp says why).
-  if (hal::tcpq_server_address(url) && !hal::tcpq_server_answers(url, kLookTimeoutMs)) {
-    throw std::runtime_error("no LCM server answered at '" + url + "'");
-  }
-  lcm_ = std::make_unique<lcm::LCM>(url);
-  if (!lcm_->good()) throw std::runtime_error("cannot start LCM on '" + url + "'");
-  if (!hal::lcm_has_socket(*lcm_)) throw std::runtime_error("no LCM server answered at '" + url + "'");
+LcmReceiver::LcmReceiver(const std::string& url) : url_(url), lcm_(hal::open_lcm(url, "LCM viewer")) {
   subscriptions_ = subscribe(*lcm_);
   thread_ = std::thread([this] { receive(); });
 }
@@ -79,9 +69,8 @@ std::vector<lcm::Subscription*> LcmReceiver::subscribe(lcm::LCM& lcm) {
 // finds the gap in the collisions' numbers and catches up from the durable log or says it
 // diverged.
 bool LcmReceiver::reconnect() {
-  if (!hal::tcpq_server_answers(url_, kLookTimeoutMs)) return false;
-  auto fresh = std::make_unique<lcm::LCM>(url_);
-  if (!fresh->good() || !hal::lcm_has_socket(*fresh)) return false;
+  std::unique_ptr<lcm::LCM> fresh = hal::reopen_lcm(url_);
+  if (!fresh) return false;
   std::vector<lcm::Subscription*> made = subscribe(*fresh);
   std::swap(lcm_, fresh);
   std::swap(subscriptions_, made);
@@ -95,7 +84,7 @@ void LcmReceiver::receive() {
   while (!stop_) {
     if (hal::lcm_handle_within(*lcm_, kHandleTimeoutMs) >= 0) continue;
     if (!hal::lcm_has_socket(*lcm_) && std::chrono::steady_clock::now() >= next_look) {
-      next_look = std::chrono::steady_clock::now() + kLookPeriod;
+      next_look = std::chrono::steady_clock::now() + hal::kTcpqLookPeriod;
       try {
         if (reconnect()) continue;
       } catch (const std::exception&) {  // the new instance's allocations: try again at the next look

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -15,6 +16,17 @@ class Subscription;
 }  // namespace lcm
 
 namespace sculpt::hal {
+
+/// A new instance on `url` with its socket. liblcm's tcpq connect and handshake have no timeout
+/// (tcpq_probe.hpp), so a tcpq server named by its address must answer a look first. Throws
+/// std::runtime_error naming `who`: "WHO: no server answered at 'URL'" (the look, or a tcpq
+/// instance left without a socket) or "WHO: cannot open LCM at 'URL'" (liblcm refused the URL).
+std::unique_ptr<lcm::LCM> open_lcm(const std::string& url, std::string_view who);
+
+/// A new instance on `url` in place of one whose tcpq server went away, made only once the server
+/// answers a look and only with its socket; nothing otherwise (a look, at most
+/// kTcpqLookTimeoutMs, is all it waits for).
+std::unique_ptr<lcm::LCM> reopen_lcm(const std::string& url) noexcept;
 
 /// Whether `lcm` has a socket to wait on (false for a tcpq instance not connected to its server).
 bool lcm_has_socket(lcm::LCM& lcm) noexcept;
@@ -27,7 +39,7 @@ int lcm_handle_within(lcm::LCM& lcm, int timeout_ms) noexcept;
 /// Destroys `instance`, made on `url`, without waiting on its server. liblcm's destroy
 /// unsubscribes, and a tcpq instance with no socket connects to its server to do so and waits
 /// for the server's handshake: for minutes when the server's host has gone, for ever when its
-/// process is stopped or hung (tcpq_probe.hpp). Unless the server answers a look (200 ms), such
+/// process is stopped or hung (tcpq_probe.hpp). Unless the server answers a look (kTcpqLookTimeoutMs), such
 /// an instance is destroyed on a thread of its own that nobody waits for; when no thread can
 /// start, it is kept (a few kilobytes, rather than a stop that never returns).
 /// `subscriptions` (made on `instance`) are undone first, where it is destroyed.

@@ -8,10 +8,22 @@
 
 #include <netinet/in.h>
 
+#include <chrono>
 #include <optional>
 #include <string_view>
 
 namespace sculpt::hal {
+
+/// How long one look at a tcpq server may take: a server on the network answers well within it,
+/// and a stop() that has to look first stays quick.
+inline constexpr int kTcpqLookTimeoutMs = 200;
+/// How often a reader or writer whose tcpq server went away looks for it again.
+inline constexpr std::chrono::milliseconds kTcpqLookPeriod{1000};
+
+inline constexpr std::string_view kTcpqScheme = "tcpq://";
+/// Whether `url` names LCM's tcpq provider (liblcm's instances of any other provider never wait
+/// on a server).
+constexpr bool is_tcpq_url(std::string_view url) noexcept { return url.substr(0, kTcpqScheme.size()) == kTcpqScheme; }
 
 /// The server a tcpq URL names (`tcpq://`, `tcpq://HOST`, `tcpq://HOST:PORT`, liblcm's default
 /// 127.0.0.1:7700) when HOST is an IPv4 address in dotted form; nothing for any other URL. A host
