@@ -36,7 +36,9 @@ LcmGloveSource::~LcmGloveSource() { stop(); }
 void LcmGloveSource::start() {
   if (thread_.joinable()) throw std::runtime_error("LCM glove source: already started");
   if (lcm_ == nullptr) {  // not shared (or closed by a previous stop)
-    owned_ = open_lcm(config_.url, "LCM glove source");
+    OpenedLcm opened = open_lcm(config_.url, "LCM glove source");
+    owned_ = std::move(opened.instance);
+    owned_url_ = std::move(opened.url);
     lcm_ = owned_.get();
   }
   // A raw subscription: LCM's typed handlers drop a message that fails to decode with a line
@@ -61,7 +63,7 @@ void LcmGloveSource::stop() {
   stop_requested_.store(true, std::memory_order_release);
   thread_.join();
   if (owned_) {
-    destroy_without_waiting(std::move(owned_), config_.url, {subscription_});
+    destroy_without_waiting(std::move(owned_), owned_url_, {subscription_});
     lcm_ = nullptr;
   } else {
     lcm_->unsubscribe(subscription_);
@@ -109,7 +111,7 @@ void LcmGloveSource::handle(const void* data, std::uint32_t size) noexcept {
 }
 
 bool LcmGloveSource::reconnect() noexcept {
-  std::unique_ptr<lcm::LCM> fresh = reopen_lcm(config_.url);
+  std::unique_ptr<lcm::LCM> fresh = reopen_lcm(owned_url_);
   if (!fresh) return false;
   lcm::Subscription* subscription = nullptr;
   try {
@@ -117,14 +119,14 @@ bool LcmGloveSource::reconnect() noexcept {
   } catch (...) {  // its allocation: the server is looked for again at the next look
   }
   if (subscription == nullptr || !lcm_has_socket(*fresh)) {
-    destroy_without_waiting(std::move(fresh), config_.url, {subscription});
+    destroy_without_waiting(std::move(fresh), owned_url_, {subscription});
     return false;
   }
   // The old instance goes, and its subscription with it, without waiting on its server.
   std::swap(owned_, fresh);
   lcm_ = owned_.get();
   lcm::Subscription* const old_subscription = std::exchange(subscription_, subscription);
-  destroy_without_waiting(std::move(fresh), config_.url, {old_subscription});
+  destroy_without_waiting(std::move(fresh), owned_url_, {old_subscription});
   return true;
 }
 

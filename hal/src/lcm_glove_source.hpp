@@ -28,8 +28,8 @@ namespace sculpt::hal {
 /// per hand. State: kConnected from start() (LCM has no connection to lose), kDisconnected
 /// while LCM reports errors, kStopped after stop(). An owned tcpq instance whose server went
 /// away is replaced by a new one once the server answers again (reopen_lcm(), looked for every
-/// kTcpqLookPeriod: a server named by its IPv4 address only), so the glove comes back live without a restart; counted as a reconnect once a message or a
-/// quiet wait succeeds on it. start() looks first, and stop() never waits on a server that does
+/// kTcpqLookPeriod at the address its host name had at start), so the glove comes back live
+/// without a restart; counted as a reconnect once a message or a quiet wait succeeds on it. start() looks first, and stop() never waits on a server that does
 /// not answer a look (liblcm's connect and handshake have no timeout: tcpq_probe.hpp).
 class LcmGloveSource final : public GloveSource {
  public:
@@ -60,6 +60,7 @@ class LcmGloveSource final : public GloveSource {
   LcmConfig config_;
   lcm::LCM* lcm_ = nullptr;  // owned_ or the shared instance
   std::unique_ptr<lcm::LCM> owned_;
+  std::string owned_url_;  // the URL owned_ was made on: config_.url, a tcpq host by its address
   lcm::Subscription* subscription_ = nullptr;
   base::SpscQueue<GloveSample> queue_;
   AtomicSourceCounters counters_;

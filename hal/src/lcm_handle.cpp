@@ -3,6 +3,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <atomic>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -15,19 +16,21 @@ std::atomic<std::size_t> in_flight{0};  // destroy_without_waiting's threads sti
 
 }  // namespace
 
-std::unique_ptr<lcm::LCM> open_lcm(const std::string& url, std::string_view who) {
+OpenedLcm open_lcm(const std::string& url, std::string_view who) {
   const auto failure = [&](std::string_view what) {
-    return std::runtime_error(std::string(who) + ": " + std::string(what) + " at '" + url + "'");
+    return std::runtime_error(std::string(who) + ": " + std::string(what) + " '" + url + "'");
   };
-  if (tcpq_server_address(url) && !tcpq_server_answers(url, kTcpqLookTimeoutMs)) {
-    throw failure("no server answered");
+  std::optional<std::string> by_address = tcpq_url_by_address(url);
+  if (!by_address) throw failure("no address for the host in");
+  if (tcpq_server_address(*by_address) && !tcpq_server_answers(*by_address, kTcpqLookTimeoutMs)) {
+    throw failure("no server answered at");
   }
-  auto made = std::make_unique<lcm::LCM>(url);
-  if (!made->good()) throw failure("cannot open LCM");
-  // A tcpq instance whose server went between the look and the connect (or whose host name
-  // could not be looked at) has no socket, and would never deliver.
-  if (!lcm_has_socket(*made)) throw failure("no server answered");
-  return made;
+  auto made = std::make_unique<lcm::LCM>(*by_address);
+  if (!made->good()) throw failure("cannot open LCM at");
+  // A tcpq instance whose server went between the look and the connect has no socket, and
+  // would never deliver.
+  if (!lcm_has_socket(*made)) throw failure("no server answered at");
+  return {std::move(made), std::move(*by_address)};
 }
 
 std::unique_ptr<lcm::LCM> reopen_lcm(const std::string& url) noexcept {

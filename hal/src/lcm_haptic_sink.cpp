@@ -31,7 +31,9 @@ LcmHapticSink::~LcmHapticSink() { stop(); }
 void LcmHapticSink::start() {
   if (thread_.joinable()) throw std::runtime_error("LCM haptic sink: already started");
   if (lcm_ == nullptr) {  // not shared (or closed by a previous stop)
-    owned_ = open_lcm(config_.url, "LCM haptic sink");
+    OpenedLcm opened = open_lcm(config_.url, "LCM haptic sink");
+    owned_ = std::move(opened.instance);
+    owned_url_ = std::move(opened.url);
     lcm_ = owned_.get();
   }
   next_look_ = std::chrono::steady_clock::now();
@@ -40,11 +42,11 @@ void LcmHapticSink::start() {
 }
 
 bool LcmHapticSink::may_publish() noexcept {
-  if (!owned_ || !is_tcpq_url(config_.url) || lcm_has_socket(*lcm_)) return true;
+  if (!owned_ || !is_tcpq_url(owned_url_) || lcm_has_socket(*lcm_)) return true;
   const auto now = std::chrono::steady_clock::now();
   if (now < next_look_) return false;
   next_look_ = now + kTcpqLookPeriod;
-  return tcpq_server_answers(config_.url, kTcpqLookTimeoutMs);
+  return tcpq_server_answers(owned_url_, kTcpqLookTimeoutMs);
 }
 
 void LcmHapticSink::stop() {

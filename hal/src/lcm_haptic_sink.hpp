@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <thread>
 
 #include "sculpt/hal/backend_config.hpp"
@@ -62,6 +63,7 @@ class LcmHapticSink final : public HapticSink {
   std::chrono::microseconds poll_period_;
   lcm::LCM* lcm_ = nullptr;  // owned_ or the shared instance
   std::unique_ptr<lcm::LCM> owned_;
+  std::string owned_url_;  // the URL owned_ was made on: config_.url, a tcpq host by its address
   base::SpscQueue<HapticCommand> queue_;
   std::atomic<std::uint64_t> dropped_{0}, publish_errors_{0};
   DeliveryCounts published_;

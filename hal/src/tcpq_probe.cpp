@@ -1,19 +1,37 @@
 #include "sculpt/hal/tcpq_probe.hpp"
 
 #include <arpa/inet.h>
+#include <netdb.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
+#include <string>
 
 namespace sculpt::hal {
+
+namespace {
+
+// Where a tcpq URL's host begins and ends: `tcpq://HOST[:PORT][?OPTIONS]`.
+struct HostSpan {
+  std::size_t begin = 0, end = 0;
+};
+
+HostSpan host_span(std::string_view url) noexcept {
+  const std::size_t begin = kTcpqScheme.size();
+  const std::size_t end = std::min(url.find_first_of(":?", begin), url.size());
+  return {begin, end};
+}
+
+}  // namespace
 
 std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept {
   if (!is_tcpq_url(url)) return std::nullopt;
@@ -36,6 +54,25 @@ std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept {
   server.sin_port = htons(static_cast<std::uint16_t>(port));
   if (::inet_pton(AF_INET, text.data(), &server.sin_addr) != 1) return std::nullopt;
   return server;
+}
+
+std::optional<std::string> tcpq_url_by_address(const std::string& url) {
+  if (!is_tcpq_url(url)) return url;
+  const HostSpan span = host_span(url);
+  const std::string host = url.substr(span.begin, span.end - span.begin);
+  in_addr numeric{};
+  if (host.empty() || ::inet_pton(AF_INET, host.c_str(), &numeric) == 1) return url;  // an address already
+  addrinfo wanted{};
+  wanted.ai_family = AF_INET;  // liblcm's tcpq client connects over IPv4 only
+  wanted.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  if (::getaddrinfo(host.c_str(), nullptr, &wanted, &found) != 0 || found == nullptr) return std::nullopt;
+  std::array<char, INET_ADDRSTRLEN> text{};
+  const auto* address = reinterpret_cast<const sockaddr_in*>(found->ai_addr);
+  const bool written = ::inet_ntop(AF_INET, &address->sin_addr, text.data(), text.size()) != nullptr;
+  ::freeaddrinfo(found);
+  if (!written) return std::nullopt;
+  return url.substr(0, span.begin) + text.data() + url.substr(span.end);
 }
 
 bool tcpq_server_answers(std::string_view url, int timeout_ms) noexcept {

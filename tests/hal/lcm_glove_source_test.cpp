@@ -302,12 +302,17 @@ TEST(LcmGloveSource, ATcpqServerMissingOrGoneIsAnErrorNotAnAbort) {
 // A tcpq server that hangs up and comes back: the source used to stay disconnected until the
 // station was restarted (liblcm 1.3.1 reconnects only in its blocking handle()). It now looks
 // for the server every second and, once it answers, listens on a new instance: the glove's
-// next sample arrives, counted as a reconnect.
-TEST(LcmGloveSource, ATcpqServerThatComesBackIsListenedToAgain) {
+// next sample arrives, counted as a reconnect. The server is named by its address, and by a host
+// name (looked up once, at start: the looks and the new instance use the address, since a
+// lookup could wait as long as the resolver does).
+class LcmGloveSourceTcpqHost : public testing::TestWithParam<const char*> {};
+
+TEST_P(LcmGloveSourceTcpqHost, ATcpqServerThatComesBackIsListenedToAgain) {
   LoopbackListener first;
+  const std::string by_address = first.url();
+  const auto port = static_cast<std::uint16_t>(std::stoi(by_address.substr(by_address.rfind(':') + 1)));
   LcmConfig config;
-  config.url = first.url();
-  const auto port = static_cast<std::uint16_t>(std::stoi(config.url.substr(config.url.rfind(':') + 1)));
+  config.url = std::string("tcpq://") + GetParam() + ":" + std::to_string(port);
   std::thread hang_up([&first] {
     const int client = accept_client(first.fd());
     if (client >= 0) ::close(client);
@@ -359,6 +364,8 @@ TEST(LcmGloveSource, ATcpqServerThatComesBackIsListenedToAgain) {
   EXPECT_EQ(source.state(), SourceState::kStopped);
 }
 
+INSTANTIATE_TEST_SUITE_P(AddressAndHostName, LcmGloveSourceTcpqHost, testing::Values("127.0.0.1", "localhost"));
+
 // A tcpq server that hung up and then stopped answering (its process stopped or hung, or its
 // host gone from the network): the source's instance has no socket, and liblcm's destroy
 // connects to the server to unsubscribe and waits for its handshake, without a timeout. stop()
@@ -402,6 +409,20 @@ TEST(LcmGloveSource, StartSaysNoServerAnsweredWhenTheServerDoesNotHandshake) {
   LcmGloveSource source(config, 8);
   EXPECT_EQ(testing_support::start_within_3_s(source, server),
             "LCM glove source: no server answered at '" + config.url + "'");
+  EXPECT_EQ(source.state(), SourceState::kStopped);
+}
+
+// A tcpq host name with no address is said at start, named as the scene wrote it.
+TEST(LcmGloveSource, StartSaysATcpqHostHasNoAddress) {
+  LcmConfig config;
+  config.url = "tcpq://glove..invalid:7700";  // an empty label: the resolver refuses it at once
+  LcmGloveSource source(config, 8);
+  try {
+    source.start();
+    ADD_FAILURE() << "started on a host with no address";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "LCM glove source: no address for the host in '" + config.url + "'");
+  }
   EXPECT_EQ(source.state(), SourceState::kStopped);
 }
 

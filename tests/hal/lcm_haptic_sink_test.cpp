@@ -197,11 +197,15 @@ TEST(LcmHapticSink, ATcpqServerThatStopsAnsweringCostsItsCommandsNotTheSinksStop
 }
 
 // A tcpq server that hangs up and comes back: once it answers a look, the sink publishes to it
-// again (liblcm reconnects inside the next publish).
-TEST(LcmHapticSink, ATcpqServerThatComesBackIsPublishedToAgain) {
+// again (liblcm reconnects inside the next publish). Named by its address, and by a host name
+// (looked up once, at start: the looks use the address).
+class LcmHapticSinkTcpqHost : public testing::TestWithParam<const char*> {};
+
+TEST_P(LcmHapticSinkTcpqHost, ATcpqServerThatComesBackIsPublishedToAgain) {
   testing_support::LoopbackListener server;
+  const std::string by_address = server.url();
   LcmConfig config;
-  config.url = server.url();
+  config.url = std::string("tcpq://") + GetParam() + by_address.substr(by_address.rfind(':'));
   std::atomic<int> clients_heard{0};
   std::thread serve([&server, &clients_heard] {
     for (;;) {  // every client that sends after its handshake is heard, then hung up on
@@ -225,6 +229,8 @@ TEST(LcmHapticSink, ATcpqServerThatComesBackIsPublishedToAgain) {
   serve.join();
   EXPECT_GE(sink.published(), 2u);
 }
+
+INSTANTIATE_TEST_SUITE_P(AddressAndHostName, LcmHapticSinkTcpqHost, testing::Values("127.0.0.1", "localhost"));
 
 }  // namespace
 }  // namespace sculpt::hal

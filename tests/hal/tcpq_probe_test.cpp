@@ -12,6 +12,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -75,6 +76,20 @@ TEST(TcpqProbe, TheServerOfATcpqUrlIsAnIpv4AddressAndAPort) {
   EXPECT_FALSE(tcpq_server_address("tcpq://127.0.0.1:65536"));
   EXPECT_FALSE(tcpq_server_address("tcpq://127.0.0.1:7700x"));
   EXPECT_FALSE(tcpq_server_address("tcpq://127.0.0.1.1.1.1.1.1.1:7700"));
+}
+
+// A host name is looked up once, where a start may wait, and the URL then names the address:
+// liblcm's later connects and the looks need no lookup.
+TEST(TcpqProbe, AHostNameIsReplacedByItsAddressAndTheRestKept) {
+  EXPECT_EQ(tcpq_url_by_address("tcpq://localhost:7700?recv_buf_size=4096"),
+            "tcpq://127.0.0.1:7700?recv_buf_size=4096");
+  EXPECT_EQ(tcpq_url_by_address("tcpq://localhost"), "tcpq://127.0.0.1");
+  EXPECT_EQ(tcpq_url_by_address("tcpq://localhost?recv_buf_size=1"), "tcpq://127.0.0.1?recv_buf_size=1");
+  for (const char* same : {"tcpq://", "tcpq://10.1.2.3:7701", "udpm://239.255.76.67:7667?ttl=0", "memq://"}) {
+    EXPECT_EQ(tcpq_url_by_address(same), same);
+  }
+  // An empty label: refused by the resolver itself, without asking a name server.
+  EXPECT_EQ(tcpq_url_by_address("tcpq://glove..invalid:7700"), std::nullopt);
 }
 
 TEST(TcpqProbe, AServerAnswersWhenItCompletesLcmsHandshake) {

@@ -23,7 +23,10 @@ constexpr std::chrono::milliseconds kErrorBackoff{50};
 
 }  // namespace
 
-LcmReceiver::LcmReceiver(const std::string& url) : url_(url), lcm_(hal::open_lcm(url, "LCM viewer")) {
+LcmReceiver::LcmReceiver(const std::string& url) {
+  hal::OpenedLcm opened = hal::open_lcm(url, "LCM viewer");
+  lcm_ = std::move(opened.instance);
+  url_ = std::move(opened.url);
   subscriptions_ = subscribe(*lcm_);
   thread_ = std::thread([this] { receive(); });
 }

@@ -48,7 +48,7 @@ class LcmReceiver {
   void receive();
   void push(LiveMessage message);
 
-  std::string url_;
+  std::string url_;                // the URL lcm_ was made on (a tcpq host by its address: hal::open_lcm)
   std::unique_ptr<lcm::LCM> lcm_;  // the receiving thread's once it runs, as are its subscriptions
   std::vector<lcm::Subscription*> subscriptions_;
   std::mutex mutex_;

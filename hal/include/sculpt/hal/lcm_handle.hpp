@@ -17,11 +17,20 @@ class Subscription;
 
 namespace sculpt::hal {
 
+/// An instance made by open_lcm(), and the URL it was made on: the one asked for, with a tcpq
+/// server's host name replaced by its address (tcpq_url_by_address), which later looks,
+/// reopen_lcm() and destroy_without_waiting() are given.
+struct OpenedLcm {
+  std::unique_ptr<lcm::LCM> instance;
+  std::string url;
+};
+
 /// A new instance on `url` with its socket. liblcm's tcpq connect and handshake have no timeout
-/// (tcpq_probe.hpp), so a tcpq server named by its address must answer a look first. Throws
-/// std::runtime_error naming `who`: "WHO: no server answered at 'URL'" (the look, or a tcpq
-/// instance left without a socket) or "WHO: cannot open LCM at 'URL'" (liblcm refused the URL).
-std::unique_ptr<lcm::LCM> open_lcm(const std::string& url, std::string_view who);
+/// (tcpq_probe.hpp), so a tcpq server must answer a look first; a server named by a host name is
+/// looked up once, here. Throws std::runtime_error naming `who` and `url`: "WHO: no address
+/// for the host in 'URL'", "WHO: no server answered at 'URL'" (the look, or a tcpq instance left
+/// without a socket) or "WHO: cannot open LCM at 'URL'" (liblcm refused the URL).
+OpenedLcm open_lcm(const std::string& url, std::string_view who);
 
 /// A new instance on `url` in place of one whose tcpq server went away, made only once the server
 /// answers a look and only with its socket; nothing otherwise (a look, at most

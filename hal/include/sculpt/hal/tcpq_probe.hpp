@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace sculpt::hal {
@@ -29,6 +30,12 @@ constexpr bool is_tcpq_url(std::string_view url) noexcept { return url.substr(0,
 /// 127.0.0.1:7700) when HOST is an IPv4 address in dotted form; nothing for any other URL. A host
 /// name is not looked up (a lookup can block as long as a connect): nothing.
 std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept;
+
+/// `url` with its tcpq server's host name replaced by the IPv4 address it has now, so that
+/// liblcm's connects and the looks (tcpq_server_address) need no lookup later: a URL that names
+/// an address, or none, or is not tcpq, comes back as it is; nothing when the host has no IPv4
+/// address. The lookup may wait as long as the resolver does: only where a start may wait.
+std::optional<std::string> tcpq_url_by_address(const std::string& url);
 
 /// True when the server of `url` (tcpq_server_address) accepts a TCP connection and answers LCM's
 /// tcpq handshake, all within `timeout_ms`; the connection is closed at once.
