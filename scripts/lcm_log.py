@@ -11,13 +11,15 @@ lcmtypes/lcm/*.lcm at build time (build/lcmtypes/python/sculpt_lcm).
                                              station's run summary also reports; a log cut by
                                              a crash is read up to the cut ("damage" names its
                                              offset); a file that is not a log is exit 1
-As a module: events(path) yields raw events, decoded(path) decoded ones.
+As a module: events(path) yields raw events, decoded(path) decoded ones, resign(blob) makes a
+log's checks (SCULPT_CHECK, logging/event_check.hpp) match its bytes again.
 """
 import argparse
 import json
 import os
 import struct
 import sys
+import zlib
 
 SYNC = 0xEDA1DA01
 HEADER = struct.Struct(">IqqII")  # sync, event number, utime, channel length, data length
@@ -30,7 +32,9 @@ CHANNEL_TYPES = {
     "SCULPT_COLLISION": "collision_event_t",
     "SCULPT_TICK": "tick_stats_t",
     "SCULPT_HAPTIC": "haptic_command_t",
+    "SCULPT_CHECK": "log_check_t",
 }
+CHECK_CHANNEL = b"SCULPT_CHECK"
 
 
 class LogDamage(Exception):
@@ -39,6 +43,28 @@ class LogDamage(Exception):
     def __init__(self, path, offset, what):
         super().__init__(f"{path}: byte offset {offset}: {what}")
         self.offset = offset
+
+
+def resign(blob):
+    """Recomputes in place (a bytearray) every SCULPT_CHECK's CRC-32s over the events' bytes as
+    they are now. For tests that edit a field to reach the guards behind the checks: the log a
+    station would write with those values, rather than a log changed after it was written (which
+    the checks find). The log must be whole; a check's payload is its type's fingerprint, int64
+    first_event, int32 count, then count int32 CRCs."""
+    spans, checks, at = {}, [], 0
+    while at < len(blob):
+        _, number, _, channel_length, data_length = HEADER.unpack_from(blob, at)
+        end = at + HEADER.size + channel_length + data_length
+        if bytes(blob[at + HEADER.size:at + HEADER.size + channel_length]) == CHECK_CHANNEL:
+            checks.append(at + HEADER.size + channel_length)
+        else:
+            spans[number] = (at, end)
+        at = end
+    for data in checks:
+        first, count = struct.unpack_from(">qi", blob, data + 8)
+        for k in range(count):
+            start, end = spans[first + k]
+            struct.pack_into(">I", blob, data + 20 + 4 * k, zlib.crc32(blob[start:end]))
 
 
 def events(path):

@@ -21,6 +21,7 @@
 
 #include "sculpt/base/regular_file.hpp"
 #include "sculpt/logging/channels.hpp"
+#include "sculpt/logging/event_check.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 
 namespace sculpt::logging {
@@ -64,6 +65,13 @@ DurableLog::DurableLog(DurableLogConfig config)
   }
   lock_writer();
   event_ = std::make_unique<lcm::LogEvent>();
+  // The check's arrays at their largest now, so that the writer thread never allocates.
+  check_.crc.reserve(kMaxCheckedEvents);
+  check_.count = static_cast<std::int32_t>(kMaxCheckedEvents);
+  check_.crc.resize(kMaxCheckedEvents);
+  check_buffer_.resize(static_cast<std::size_t>(check_.getEncodedSize()));
+  check_.crc.clear();
+  check_.count = 0;
 }
 
 DurableLog::~DurableLog() { stop(); }  // stop() closes the file and releases the lock
@@ -168,6 +176,8 @@ void DurableLog::write_session_header(const sculpt_lcm::session_header_t& header
     throw std::runtime_error("DurableLog: '" + config_.path +
                              "': cannot write the session header: " + std::strerror(errno));
   }
+  note_written(event_crc32(event.eventnum, event.timestamp, event.channel, buffer.data(), buffer.size()),
+               event.eventnum, event.timestamp);
   ++event_number_;
   // On the disk before the first tick: a log cut at any later moment still names its session.
   flush(true);
@@ -240,6 +250,7 @@ DurableLog::Counters DurableLog::counters() const noexcept {
   }
   out.write_errors = write_errors_.load(std::memory_order_relaxed);
   out.flushes = flushes_.load(std::memory_order_relaxed);
+  out.checks = checks_.load(std::memory_order_relaxed);
   return out;
 }
 
@@ -278,9 +289,12 @@ void DurableLog::write_message(LogKind kind, std::int64_t utime, const Message& 
   event.data = buffer.data();
   // writeEvent returns 0 on success; a short write (disk full) leaves a truncated event,
   // which EventLogReader reports and skips.
+  const std::uint32_t crc =
+      event_crc32(event.eventnum, utime, event.channel, buffer.data(), static_cast<std::size_t>(size));
   const int result = file_->writeEvent(&event);
   event.data = nullptr;
   if (result == 0) {
+    note_written(crc, event_number_, utime);
     ++event_number_;
     dirty_ = true;
     written_[index(kind)].fetch_add(1, std::memory_order_relaxed);
@@ -339,8 +353,41 @@ std::size_t DurableLog::drain(std::size_t limit) noexcept {
   return count;
 }
 
+void DurableLog::note_written(std::uint32_t crc, std::int64_t number, std::int64_t utime) noexcept {
+  if (check_.count == 0) check_.first_event = number;
+  check_.crc.push_back(static_cast<std::int32_t>(crc));  // within the reserve: no allocation
+  ++check_.count;
+  last_utime_ = utime;
+  if (number == 0 || check_.crc.size() >= kMaxCheckedEvents) write_check();
+}
+
+void DurableLog::write_check() noexcept {
+  if (check_.count == 0 || file_ == nullptr) return;
+  const int size = check_.getEncodedSize();
+  const bool encoded = size > 0 && static_cast<std::size_t>(size) <= check_buffer_.size() &&
+                       check_.encode(check_buffer_.data(), 0, size) == size;
+  lcm::LogEvent& event = *event_;
+  event.eventnum = event_number_;
+  event.timestamp = last_utime_;
+  event.channel = kCheckChannel;  // short enough for the string's own buffer: no allocation
+  event.datalen = size;
+  event.data = check_buffer_.data();
+  // A check that cannot be written leaves its events unchecked, as a crash's tail is: a reader
+  // hands them on as they are.
+  if (encoded && file_->writeEvent(&event) == 0) {
+    ++event_number_;
+    checks_.fetch_add(1, std::memory_order_relaxed);
+  } else {
+    write_errors_.fetch_add(1, std::memory_order_relaxed);
+  }
+  event.data = nullptr;
+  check_.crc.clear();
+  check_.count = 0;
+}
+
 void DurableLog::flush(bool sync) noexcept {
   if (file_ == nullptr) return;
+  write_check();
   std::FILE* f = file_->getFilePtr();
   if (std::fflush(f) != 0) write_errors_.fetch_add(1, std::memory_order_relaxed);
   // fsync only on explicit requests and at close: it can take milliseconds on a busy disk,

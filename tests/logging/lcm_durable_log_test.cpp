@@ -24,6 +24,7 @@
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/durable_log.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
+#include "sculpt/logging/event_log_walk.hpp"
 #include "sculpt/hal/lcm_messages.hpp"
 #include "sculpt/logging/records.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
@@ -43,6 +44,27 @@ std::string temp_path(const std::string& name) {
 std::string file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The events of `path` as the readers of a whole log see them: checked, the checks consumed
+// (event_check.hpp). Any damage, and any event that fails its check, fails the test.
+std::vector<LogEvent> checked_events(const std::string& path) {
+  std::vector<LogEvent> events;
+  const EventLogTotals totals = for_each_event(
+      path, [&](const LogEvent& event) { events.push_back(event); },
+      [](std::uint64_t, const std::string& what) { ADD_FAILURE() << what; });
+  EXPECT_EQ(totals.corrupt, 0u);
+  EXPECT_EQ(totals.failed_checks, 0u);
+  return events;
+}
+
+// How many SCULPT_CHECK events `path` holds, read raw.
+std::size_t raw_checks(const std::string& path) {
+  EventLogReader reader(path);
+  LogEvent event;
+  std::size_t checks = 0;
+  while (reader.next(event) == EventLogReader::Result::kEvent) checks += event.channel == kCheckChannel ? 1 : 0;
+  return checks;
 }
 
 void record_ticks(DurableLog& log, std::int64_t first, std::int64_t count) {
@@ -185,12 +207,13 @@ TEST(DurableLog, WritesEveryRecordInOrderAndRoundTripsCollisions) {
   config.path = path;
   config.flush_interval = std::chrono::milliseconds(5);
   Session session;
+  DurableLog::Counters counters;
   {
     DurableLog log(config);
     log.start();
     session = record_session(log, 5000, 1'700'000'000'000'000, 1000);
     log.stop();
-    const auto counters = log.counters();
+    counters = log.counters();
     EXPECT_EQ(counters[LogKind::kCollision].written, 1000u);
     EXPECT_EQ(counters[LogKind::kTick].written, 5000u);
     EXPECT_EQ(counters[LogKind::kGlove].written, 500u);
@@ -202,16 +225,16 @@ TEST(DurableLog, WritesEveryRecordInOrderAndRoundTripsCollisions) {
     log.stop();  // idempotent
   }
 
-  EventLogReader reader(path);
-  LogEvent event;
   std::map<std::string, std::size_t> per_channel;
   std::size_t n = 0, collision = 0;
-  EventLogReader::Result result;
-  while ((result = reader.next(event)) == EventLogReader::Result::kEvent) {
+  std::int64_t last_number = -1;
+  const std::vector<LogEvent> events = checked_events(path);
+  for (const LogEvent& event : events) {
     ASSERT_LT(n, session.channels.size());
     ASSERT_EQ(event.channel, session.channels[n]) << "event " << n;
     ASSERT_EQ(event.utime, session.utimes[n]) << "event " << n;
-    EXPECT_EQ(event.number, static_cast<std::int64_t>(n));
+    EXPECT_GT(event.number, last_number) << "event " << n;  // the checks take numbers between
+    last_number = event.number;
     ++per_channel[event.channel];
     std::string error;
     if (event.channel == kCollisionChannel) {
@@ -229,26 +252,34 @@ TEST(DurableLog, WritesEveryRecordInOrderAndRoundTripsCollisions) {
     }
     ++n;
   }
-  EXPECT_EQ(result, EventLogReader::Result::kEnd) << reader.error();
   EXPECT_EQ(n, session.channels.size());
+  // A check after the first event, then at each flush: the file's are the log's count.
+  EXPECT_EQ(raw_checks(path), counters.checks);
+  EXPECT_GE(counters.checks, 2u);
+  EXPECT_EQ(last_number + 2, static_cast<std::int64_t>(n + counters.checks))
+      << "a check closes the log, and the numbers run on through the checks";
   EXPECT_EQ(per_channel[kCollisionChannel], 1000u);
   EXPECT_EQ(per_channel[kTickChannel], 5000u);
   EXPECT_EQ(per_channel[kGloveChannel], 500u);
   EXPECT_EQ(per_channel[kFingertipChannel], 100u);
   EXPECT_EQ(per_channel[kHapticChannel], 50u);
-  EXPECT_EQ(reader.skipped_bytes(), 0u);
 
-  // LCM's own reader agrees, event for event.
+  // LCM's own reader agrees, event for event (it sees the checks too, as any channel).
   lcm::LogFile lcm_log(path, "r");
   ASSERT_TRUE(lcm_log.good());
-  std::size_t lcm_count = 0;
+  std::size_t lcm_count = 0, lcm_checks = 0;
   while (const lcm::LogEvent* e = lcm_log.readNextEvent()) {
+    if (e->channel == kCheckChannel) {
+      ++lcm_checks;
+      continue;
+    }
     ASSERT_LT(lcm_count, session.channels.size());
     EXPECT_EQ(e->channel, session.channels[lcm_count]);
     EXPECT_EQ(e->timestamp, session.utimes[lcm_count]);
     ++lcm_count;
   }
   EXPECT_EQ(lcm_count, session.channels.size());
+  EXPECT_EQ(lcm_checks, counters.checks);
 }
 
 TEST(DurableLog, FullQueueIsACountedDropAndStopWritesWhatWasQueued) {
@@ -277,13 +308,9 @@ TEST(DurableLog, FullQueueIsACountedDropAndStopWritesWhatWasQueued) {
   EXPECT_EQ(log.counters()[LogKind::kTick].dropped, 7u);
   EXPECT_THROW(log.start(), std::runtime_error);
 
-  EventLogReader reader(config.path);
-  LogEvent event;
-  for (std::int64_t i = 0; i < 4; ++i) {
-    ASSERT_EQ(reader.next(event), EventLogReader::Result::kEvent);
-    EXPECT_EQ(event.utime, 100 + i);
-  }
-  EXPECT_EQ(reader.next(event), EventLogReader::Result::kEnd);
+  const std::vector<LogEvent> events = checked_events(config.path);
+  ASSERT_EQ(events.size(), 4u);
+  for (std::int64_t i = 0; i < 4; ++i) EXPECT_EQ(events[static_cast<std::size_t>(i)].utime, 100 + i);
 }
 
 TEST(DurableLog, FlushNowMakesRecordsReadableWhileTheLogIsOpen) {
@@ -301,14 +328,8 @@ TEST(DurableLog, FlushNowMakesRecordsReadableWhileTheLogIsOpen) {
   log.flush_now();
   EXPECT_EQ(log.counters()[LogKind::kTick].written, 3u);
   EXPECT_GE(log.counters().flushes, 1u);
-  {
-    EventLogReader reader(config.path);
-    LogEvent event;
-    int count = 0;
-    while (reader.next(event) == EventLogReader::Result::kEvent) ++count;
-    EXPECT_EQ(count, 3);
-    EXPECT_EQ(reader.corrupt_events(), 0u);
-  }
+  EXPECT_EQ(checked_events(config.path).size(), 3u);
+  EXPECT_EQ(raw_checks(config.path), 2u) << "after the first event, and at the flush";
   log.stop();
 }
 
@@ -362,10 +383,8 @@ TEST(DurableLog, TheSessionHeaderIsTheFirstEventOnDiskBeforeTheThreadStarts) {
   TickRecord tick;
   ASSERT_TRUE(log.record(tick));
   log.stop();
-  EventLogReader reader(config.path);
-  LogEvent event;
   std::vector<std::string> channels;
-  while (reader.next(event) == EventLogReader::Result::kEvent) channels.push_back(event.channel);
+  for (const LogEvent& event : checked_events(config.path)) channels.push_back(event.channel);
   EXPECT_EQ(channels, (std::vector<std::string>{kSessionChannel, kTickChannel}));
 }
 
@@ -476,11 +495,9 @@ TEST(DurableLog, AnEarlierLogStaysUntilTheNewSessionOpensIt) {
     sculpt_lcm::session_header_t header{};
     header.schema = sculpt_lcm::session_header_t::SCHEMA;
     replacing.write_session_header(header);  // the session begins: the earlier log goes
-    EventLogReader reader(config.path);
-    LogEvent event;
-    ASSERT_EQ(reader.next(event), EventLogReader::Result::kEvent);
-    EXPECT_EQ(event.channel, kSessionChannel);
-    EXPECT_EQ(reader.next(event), EventLogReader::Result::kEnd);
+    const std::vector<LogEvent> events = checked_events(config.path);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].channel, kSessionChannel);
   }
 
   config.path = temp_path("never-started.lcmlog");
@@ -490,11 +507,7 @@ TEST(DurableLog, AnEarlierLogStaysUntilTheNewSessionOpensIt) {
     DurableLog queued(config);  // records queued without a thread are written at stop
     record_ticks(queued, 0, 3);
   }
-  EventLogReader reader(config.path);
-  LogEvent event;
-  int ticks = 0;
-  while (reader.next(event) == EventLogReader::Result::kEvent) ++ticks;
-  EXPECT_EQ(ticks, 3);
+  EXPECT_EQ(checked_events(config.path).size(), 3u);
 }
 
 // lcm-logplayer replays the file onto loopback multicast; a raw subscriber counts what arrives.

@@ -7,6 +7,9 @@ set -uo pipefail
 with_lcm="${SCULPT_WITH_LCM:-ON}"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
+# The edits below that reach the guards behind a log's checks make the checks match again
+# (scripts/lcm_log.py's resign): what a station would log with those values.
+export PYTHONPATH="$repo/scripts${PYTHONPATH:+:$PYTHONPATH}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 passed=0
@@ -627,6 +630,7 @@ while pos < len(data):
 last = struct.unpack_from('>q', data, bodies[-1])[0]
 for body in bodies[-600:]:
     struct.pack_into('>q', data, body, last)
+import lcm_log; lcm_log.resign(data)
 open(sys.argv[2], 'wb').write(bytes(data))
 PY
 script -qec "'$SCULPT' replay '$work/same-time.lcmlog' --model '$sphere' --scene '$work/fast-glove.toml' --mode rerun --out '$work/same-time.ply'" /dev/null < /dev/null > "$work/tty" 2>&1
@@ -653,9 +657,8 @@ if [[ $work/rerun.lcmlog -nt $work/rerun-first.lcmlog && -s $work/rerun.lcmlog ]
 expect_exit 2 "--replace-log needs --record" -- "$SCULPT" replay "${rerun_args[@]}" --replace-log
 expect_exit 2 "rerun needs a scene" -- "$SCULPT" replay "$work/sphere-squeeze.lcmlog" --model "$sphere" --mode rerun
 one_line_error "rerun names --scene" "--scene"
-# A corrupt log: playback goes past the damage and says where it was.
-# LCM logs carry no checksum, so the damage must hit what the format can see: the sync word of
-# the event in the middle of the file.
+# A corrupt log: playback goes past the damage and says where it was: here the sync word of the
+# event in the middle of the file, which the reader sees without the checks.
 python3 - "$work/sphere-squeeze.lcmlog" "$work/corrupt.lcmlog" "$work/corrupt.expect" <<'PY'
 import struct, sys
 data = bytearray(open(sys.argv[1], 'rb').read())
@@ -701,9 +704,15 @@ while pos < len(data):
             hit = pos
             struct.pack_into('>d', data, body + 79, 1e300)  # source[0]
     pos += 28 + cl + dl
+open(sys.argv[2] + '.unchecked', 'wb').write(bytes(data))  # changed after the station wrote it
+import lcm_log; lcm_log.resign(data)
 open(sys.argv[2], 'wb').write(bytes(data))
 open(sys.argv[3], 'w').write(str(hit))
 PY
+# The same edit made after the log was written: its check finds it before any guard is asked.
+expect_exit 0 "replay a log changed after it was written" -- "$SCULPT" replay "$work/far-source.lcmlog.unchecked" --model "$sphere" --json "$work/report.json"
+if grep -q "^damage   $work/far-source.lcmlog.unchecked: byte offset $(cat "$work/far-source.expect"): event [0-9]* on SCULPT_COLLISION does not match its check" "$work/err"; then ok "a changed field is damage by its check, named by byte offset"; else bad "changed field: $(head -c 400 "$work/err")"; fi
+expect_json "replay stopped at the changed event" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/far-source.expect") and j['damaged'] and j['produced_by_a_session']"
 expect_exit 0 "replay a log with a far source" -- "$SCULPT" replay "$work/far-source.lcmlog" --model "$sphere" --out "$work/far.ply" --json "$work/report.json"
 if grep -q "^damage   $work/far-source.lcmlog: byte offset $(cat "$work/far-source.expect"): frame [0-9]* cannot be applied: its forces give non-finite positions" "$work/err"; then ok "the far source is damage named by log, byte offset and frame"; else bad "far source: $(cat "$work/err")"; fi
 expect_json "replay stopped at the far source's frame" "j['recovery']['stopped_at_damage']['offset'] == $(cat "$work/far-source.expect") and j['transfer']['rejected_frames'] == 1 and j['transfer']['frames'] >= 1 and j['produced_by_a_session']"
@@ -731,6 +740,7 @@ where, body = samples[len(samples) // 2]
 struct.pack_into('>q', overflow, body, 9 * 10**18)
 for _, body in samples[len(samples) // 2:]:
     struct.pack_into('>q', gap, body, struct.unpack_from('>q', gap, body)[0] + 50 * 365 * 86400 * 10**6)
+import lcm_log; lcm_log.resign(overflow); lcm_log.resign(gap)
 open(sys.argv[2], 'wb').write(bytes(overflow))
 open(sys.argv[3], 'wb').write(bytes(gap))
 open(sys.argv[4], 'w').write(str(where))
@@ -1069,6 +1079,7 @@ while pos < len(data):
         if n == 2:
             struct.pack_into('>d', data, pos + 28 + cl + 8 + 55, 1e300)  # contact[0]
     pos += 28 + cl + dl
+import lcm_log; lcm_log.resign(data)
 open(sys.argv[2], 'wb').write(bytes(data))
 PY
 expect_exit 0 "render a log with a contact at 1e300" -- "$SCULPT" render "$work/sphere-squeeze.ply" --log "$work/far-contact.lcmlog" --out "$work/far-contact.png" --size 64x64

@@ -11,5 +11,8 @@ inline constexpr const char* kFingertipChannel = "SCULPT_FINGERTIP";  ///< sculp
 inline constexpr const char* kCollisionChannel = "SCULPT_COLLISION";  ///< sculpt_lcm::collision_event_t
 inline constexpr const char* kTickChannel = "SCULPT_TICK";            ///< sculpt_lcm::tick_stats_t
 inline constexpr const char* kHapticChannel = "SCULPT_HAPTIC";        ///< sculpt_lcm::haptic_command_t
+/// The durable log's own checks of its events (sculpt_lcm::log_check_t, event_check.hpp); never
+/// published live, and consumed by the walk (event_log_walk.hpp) rather than handed on.
+inline constexpr const char* kCheckChannel = "SCULPT_CHECK";
 
 }  // namespace sculpt::logging

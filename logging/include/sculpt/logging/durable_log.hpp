@@ -4,6 +4,7 @@
 // lcm-logger's readers and EventLogReader all read it. The log is the edit history
 // (ARCHITECTURE.md): base model + this file = the sculpted model, so nothing queued is dropped
 // on stop and the file is flushed often enough that a crash loses at most one flush interval.
+// Each flush first writes the check of the events since the last one (event_check.hpp).
 
 #include <array>
 #include <atomic>
@@ -14,11 +15,13 @@
 #include <string>
 #include <thread>
 #include <variant>
+#include <vector>
 
 #include "sculpt/hal/glove_sample.hpp"
 #include "sculpt/hal/haptic_sink.hpp"
 #include "sculpt/base/spsc_queue.hpp"
 #include "sculpt/logging/records.hpp"
+#include "sculpt_lcm/log_check_t.hpp"
 #include "sculpt_lcm/session_header_t.hpp"
 
 namespace lcm {
@@ -59,6 +62,7 @@ class DurableLog {
     std::array<KindCounters, kLogKinds> kinds{};  ///< indexed by LogKind
     std::uint64_t write_errors = 0;               ///< encode or write failures (the record is lost)
     std::uint64_t flushes = 0;                    ///< fflush calls made (periodic, flush_now and stop)
+    std::uint64_t checks = 0;                     ///< SCULPT_CHECK events written (event_check.hpp)
 
     const KindCounters& operator[](LogKind kind) const noexcept { return kinds[static_cast<std::size_t>(kind)]; }
     std::uint64_t written() const noexcept;
@@ -131,6 +135,11 @@ class DurableLog {
   void write(const Entry& entry) noexcept;
   template <typename Message>
   void write_message(LogKind kind, std::int64_t utime, const Message& message) noexcept;
+  // Adds a written event's CRC-32 to the next check; writes the check after the log's first
+  // event (so that a reader knows the log is checked) and when it is full.
+  void note_written(std::uint32_t crc, std::int64_t number, std::int64_t utime) noexcept;
+  // Writes the check of the events since the last one, if any (before every flush).
+  void write_check() noexcept;
   void flush(bool sync) noexcept;
   void close() noexcept;
   // Opens the log and takes its writer lock (flock), or throws naming the path.
@@ -151,11 +160,15 @@ class DurableLog {
   std::unique_ptr<lcm::LogEvent> event_;         // reused by every write, like its channel string
   Entry scratch_;                                // the entry being written; a member because glove samples are large
   std::int64_t event_number_ = 0;
-  bool dirty_ = false;  // written since the last flush
+  sculpt_lcm::log_check_t check_{};          // the events written since the last check
+  std::vector<unsigned char> check_buffer_;  // its encoding: both reserved once, for the largest
+  std::int64_t last_utime_ = 0;              // the newest event's timestamp, the check's own
+  bool dirty_ = false;                       // written since the last flush
   std::array<std::atomic<std::uint64_t>, kLogKinds> written_{};
   std::array<std::atomic<std::uint64_t>, kLogKinds> dropped_{};
   std::atomic<std::uint64_t> write_errors_{0};
   std::atomic<std::uint64_t> flushes_{0};
+  std::atomic<std::uint64_t> checks_{0};
   std::atomic<std::uint64_t> flush_requests_{0};
   std::atomic<std::uint64_t> flushes_served_{0};
   std::atomic<bool> closed_{false};

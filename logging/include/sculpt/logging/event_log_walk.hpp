@@ -15,12 +15,16 @@ namespace sculpt::logging {
 struct EventLogTotals {
   std::uint64_t file_size = 0;
   std::uint64_t skipped_bytes = 0;  ///< passed over while resynchronising (a cut tail included)
-  std::uint64_t corrupt = 0;        ///< places where the bytes were not a valid event
+  std::uint64_t corrupt = 0;        ///< places where the bytes were not a valid event (failed checks included)
+  std::uint64_t failed_checks = 0;  ///< events whose bytes did not match their check (event_check.hpp)
 };
 
 /// Reads `path` from start to end: `on_event` for each valid event, in file order, and
 /// `on_damage(offset, what)` for each place that is not one, `what` being "<path>: byte offset
 /// N: ..." (EventLogReader::error()). Reading resumes at the next plausible event.
+/// A checked log (event_check.hpp) hands each event on once its check has come, and an event
+/// that does not match its check is damage; the checks themselves are not handed on. What no
+/// check follows (a crash's tail, or events whose check was damaged) is handed on as read.
 /// @throw LogFileError when the file cannot be opened or read (not damage in it).
 EventLogTotals for_each_event(const std::string& path, const std::function<void(const LogEvent&)>& on_event,
                               const std::function<void(std::uint64_t offset, const std::string& what)>& on_damage);

@@ -1,0 +1,25 @@
+#pragma once
+// The checksum of one event of a durable log. LCM's log format carries none, so a bit flipped
+// inside a well-formed field passed every check a reader makes and changed what replay applied.
+// The durable log writes, after its first event and at each flush, a SCULPT_CHECK event
+// (sculpt_lcm::log_check_t) with the CRC-32 of each event since the previous check; the walk
+// (event_log_walk.hpp) holds events until their check and reports one that does not match as
+// damage. A log with no check after its first event (written before checks, or by another
+// program such as lcm-logger) is read as it always was.
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+namespace sculpt::logging {
+
+/// The most events one check covers; the durable log writes a check early rather than grow.
+inline constexpr std::size_t kMaxCheckedEvents = 4096;
+
+/// CRC-32 (zlib's) of an event's bytes as LCM's log format lays them out: the sync word, the
+/// event number, the timestamp, the channel's and the data's lengths (big-endian), the channel,
+/// the data.
+std::uint32_t event_crc32(std::int64_t number, std::int64_t utime, std::string_view channel, const std::uint8_t* data,
+                          std::size_t size) noexcept;
+
+}  // namespace sculpt::logging

@@ -1,0 +1,267 @@
+// The durable log's checks (event_check.hpp): each event's CRC-32 in a SCULPT_CHECK event after
+// the log's first event and at each flush, and the walk that hands an event on only once its
+// check matches. The truth for the CRC is zlib's crc32 over the file's own bytes.
+
+#include "sculpt/logging/event_check.hpp"
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "sculpt/logging/channels.hpp"
+#include "sculpt/logging/durable_log.hpp"
+#include "sculpt/logging/event_log_reader.hpp"
+#include "sculpt/logging/event_log_walk.hpp"
+#include "sculpt/logging/records.hpp"
+#include "sculpt_lcm/log_check_t.hpp"
+#include "support/scratch_dir.hpp"
+
+namespace sculpt::logging {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+std::string temp_path(const std::string& name) {
+  static const test::ScratchDir kScratch("sculpt_check_test_");  // this process's, removed when it exits
+  return (kScratch.path() / name).string();
+}
+
+Bytes read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return Bytes(std::istreambuf_iterator<char>(in), {});
+}
+
+void write_bytes(const std::string& path, const Bytes& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+// A session as the station writes one: the header, five ticks, a flush, five more, the stop.
+// On disk: header, check, t0..t4, check, t5..t9, check.
+std::string checked_log(const std::string& name) {
+  DurableLogConfig config;
+  config.path = temp_path(name);
+  config.flush_interval = std::chrono::hours(1);  // only the calls below flush
+  DurableLog log(config);
+  sculpt_lcm::session_header_t header{};
+  header.schema = sculpt_lcm::session_header_t::SCHEMA;
+  header.version = "check test";
+  log.write_session_header(header);
+  TickRecord tick;
+  for (int i = 0; i < 10; ++i) {
+    tick.tick = i;
+    tick.utime = 1'700'000'000'000'000 + i;
+    tick.tick_time_us = 100.0F + static_cast<float>(i);
+    EXPECT_TRUE(log.record(tick));
+    if (i == 4) log.flush_now();
+  }
+  log.stop();
+  EXPECT_EQ(log.counters().checks, 3u);
+  return config.path;
+}
+
+// Every event of `path` as the bytes hold them, checks included.
+std::vector<LogEvent> raw_events(const std::string& path) {
+  EventLogReader reader(path);
+  std::vector<LogEvent> events;
+  LogEvent event;
+  while (reader.next(event) == EventLogReader::Result::kEvent) events.push_back(event);
+  return events;
+}
+
+struct Seen {
+  std::vector<LogEvent> events;
+  std::vector<std::pair<std::uint64_t, std::string>> damage;  // offset, what
+  std::vector<std::uint64_t> order;                           // every offset handed on, in order
+  EventLogTotals totals;
+};
+
+Seen walk(const std::string& path) {
+  Seen seen;
+  seen.totals = for_each_event(
+      path,
+      [&](const LogEvent& e) {
+        seen.events.push_back(e);
+        seen.order.push_back(e.offset);
+      },
+      [&](std::uint64_t offset, const std::string& what) {
+        seen.damage.emplace_back(offset, what);
+        seen.order.push_back(offset);
+      });
+  return seen;
+}
+
+std::vector<std::int64_t> tick_numbers(const Seen& seen) {
+  std::vector<std::int64_t> ticks;
+  for (const LogEvent& e : seen.events) {
+    if (e.channel == kTickChannel) ticks.push_back(e.number);
+  }
+  return ticks;
+}
+
+TEST(EventCheck, EachCheckHoldsZlibsCrcOfTheFilesOwnBytesOfItsEvents) {
+  const std::string path = checked_log("crc.lcmlog");
+  const Bytes file = read_bytes(path);
+  const std::vector<LogEvent> events = raw_events(path);
+  ASSERT_EQ(events.size(), 14u);
+  std::vector<std::string> channels;
+  for (const LogEvent& e : events) channels.push_back(e.channel);
+  const std::string s = kSessionChannel, c = kCheckChannel, t = kTickChannel;
+  EXPECT_EQ(channels, (std::vector<std::string>{s, c, t, t, t, t, t, c, t, t, t, t, t, c}));
+  std::size_t checked = 0;
+  for (const LogEvent& check_event : events) {
+    if (check_event.channel != kCheckChannel) continue;
+    sculpt_lcm::log_check_t check;
+    std::string error;
+    ASSERT_TRUE(decode(check_event, check, error)) << error;
+    for (std::int32_t k = 0; k < check.count; ++k) {
+      const auto it = std::find_if(events.begin(), events.end(),
+                                   [&](const LogEvent& e) { return e.number == check.first_event + k; });
+      ASSERT_NE(it, events.end());
+      ASSERT_NE(it->channel, kCheckChannel) << "a check does not check a check";
+      const uLong truth =
+          ::crc32(::crc32(0L, Z_NULL, 0), file.data() + it->offset, static_cast<uInt>(end_of(*it) - it->offset));
+      EXPECT_EQ(static_cast<std::uint32_t>(check.crc[static_cast<std::size_t>(k)]), static_cast<std::uint32_t>(truth))
+          << "event " << it->number;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 11u) << "the header and the ten ticks, each once";
+  // The walk hands on the eleven, checked, and keeps the checks to itself.
+  const Seen seen = walk(path);
+  EXPECT_EQ(seen.events.size(), 11u);
+  EXPECT_TRUE(seen.damage.empty());
+  EXPECT_EQ(seen.totals.failed_checks, 0u);
+}
+
+// A bit flipped inside a well-formed field passes every range check (100.0 to 100.00001 is a
+// tick time like any other); against its check it is damage, in its place in the file, and
+// every other event still goes on.
+TEST(EventCheck, AFlippedBitInsideAFieldIsDamageAtThatEventAndTheRestGoOn) {
+  const std::string path = checked_log("flipped.lcmlog");
+  const std::vector<LogEvent> events = raw_events(path);
+  const LogEvent& victim = events[4];  // t2
+  ASSERT_EQ(victim.channel, kTickChannel);
+  Bytes file = read_bytes(path);
+  file[end_of(victim) - 1] ^= 0x01;  // the last payload byte, inside a field of tick_stats_t
+  write_bytes(path, file);
+  {
+    // The reader alone sees a valid event there.
+    const std::vector<LogEvent> raw = raw_events(path);
+    ASSERT_EQ(raw.size(), 14u);
+  }
+  const Seen seen = walk(path);
+  ASSERT_EQ(seen.damage.size(), 1u);
+  EXPECT_EQ(seen.damage[0].first, victim.offset);
+  EXPECT_NE(seen.damage[0].second.find("byte offset " + std::to_string(victim.offset) + ": event " +
+                                       std::to_string(victim.number) + " on SCULPT_TICK does not match its check"),
+            std::string::npos)
+      << seen.damage[0].second;
+  EXPECT_EQ(seen.events.size(), 10u);
+  const std::vector<std::int64_t> ticks = tick_numbers(seen);
+  EXPECT_EQ(ticks.size(), 9u);
+  EXPECT_EQ(std::count(ticks.begin(), ticks.end(), victim.number), 0);
+  EXPECT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end())) << "damage in its place among the events";
+  EXPECT_EQ(seen.totals.failed_checks, 1u);
+  EXPECT_EQ(seen.totals.corrupt, 1u);
+}
+
+// A crash leaves the events written since the last check, and perhaps half an event: the
+// whole ones go on unchecked, as before checks; the half is damage, as before.
+TEST(EventCheck, ACrashsTailAfterTheLastCheckGoesOnUnchecked) {
+  const std::string path = checked_log("cut.lcmlog");
+  const std::vector<LogEvent> events = raw_events(path);
+  const LogEvent& t7 = events[10];
+  ASSERT_EQ(t7.channel, kTickChannel);
+  Bytes file = read_bytes(path);
+  file.resize(t7.offset + 20);  // inside t7's header
+  write_bytes(path, file);
+  const Seen seen = walk(path);
+  EXPECT_EQ(tick_numbers(seen),
+            (std::vector<std::int64_t>{events[2].number, events[3].number, events[4].number, events[5].number,
+                                       events[6].number, events[8].number, events[9].number}));
+  ASSERT_EQ(seen.damage.size(), 1u);
+  EXPECT_EQ(seen.damage[0].first, t7.offset);
+  EXPECT_EQ(seen.totals.failed_checks, 0u);
+  EXPECT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end()));
+
+  file.resize(t7.offset);  // a cut between two events: nothing is damaged
+  write_bytes(path, file);
+  const Seen clean = walk(path);
+  EXPECT_EQ(tick_numbers(clean).size(), 7u);
+  EXPECT_TRUE(clean.damage.empty());
+}
+
+// A check that is itself damaged checks nothing: the reader says so, and its events go on
+// unchecked (the next check covers only its own).
+TEST(EventCheck, ADamagedCheckIsDamageAndItsEventsGoOnUnchecked) {
+  const std::string path = checked_log("bad-check.lcmlog");
+  const std::vector<LogEvent> events = raw_events(path);
+  const LogEvent& check = events[7];
+  ASSERT_EQ(check.channel, kCheckChannel);
+  Bytes file = read_bytes(path);
+  const std::uint64_t data_start = end_of(check) - check.data.size();
+  file[data_start] ^= 0x80;  // its type fingerprint
+  write_bytes(path, file);
+  const Seen seen = walk(path);
+  ASSERT_EQ(seen.damage.size(), 1u);
+  EXPECT_EQ(seen.damage[0].first, check.offset);
+  EXPECT_NE(seen.damage[0].second.find("log_check_t"), std::string::npos) << seen.damage[0].second;
+  EXPECT_EQ(tick_numbers(seen).size(), 10u);
+  EXPECT_EQ(seen.totals.failed_checks, 0u);
+  EXPECT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end()));
+
+  // A check that decodes but whose first event is no log's (the largest number, where the end
+  // of its span would overflow): damage, named, and its events go on unchecked.
+  file[data_start] ^= 0x80;  // the fingerprint as it was
+  for (std::size_t b = 0; b < 8; ++b) file[data_start + 8 + b] = b == 0 ? 0x7f : 0xff;
+  write_bytes(path, file);
+  const Seen numbers = walk(path);
+  ASSERT_EQ(numbers.damage.size(), 1u);
+  EXPECT_NE(numbers.damage[0].second.find("a check whose numbers are not a log's (first event 9223372036854775807"),
+            std::string::npos)
+      << numbers.damage[0].second;
+  EXPECT_EQ(tick_numbers(numbers).size(), 10u);
+  EXPECT_TRUE(std::is_sorted(numbers.order.begin(), numbers.order.end()));
+}
+
+// A log with no check after its first event (lcm-logger's, or the durable log's before checks)
+// reads as it always did: every event, nothing held back, nothing called damage.
+TEST(EventCheck, ALogWithoutChecksReadsAsBefore) {
+  const std::string path = temp_path("unchecked.lcmlog");
+  {
+    lcm::LogFile file(path, "w");
+    ASSERT_TRUE(file.good());
+    std::vector<std::uint8_t> data(40, 7);
+    for (int i = 0; i < 5; ++i) {
+      lcm::LogEvent event;
+      event.eventnum = i;
+      event.timestamp = 1000 + i;
+      event.channel = i == 0 ? kSessionChannel : kTickChannel;
+      event.datalen = static_cast<std::int32_t>(data.size());
+      event.data = data.data();
+      ASSERT_EQ(file.writeEvent(&event), 0);
+    }
+  }
+  Bytes file = read_bytes(path);
+  file[file.size() - 1] ^= 0x01;  // unseen without a check
+  write_bytes(path, file);
+  const Seen seen = walk(path);
+  EXPECT_EQ(seen.events.size(), 5u);
+  EXPECT_TRUE(seen.damage.empty());
+  EXPECT_EQ(seen.totals.failed_checks, 0u);
+}
+
+}  // namespace
+}  // namespace sculpt::logging
