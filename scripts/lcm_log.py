@@ -10,7 +10,9 @@ lcmtypes/lcm/*.lcm at build time (build/lcmtypes/python/sculpt_lcm).
     scripts/lcm_log.py LOG [--types DIR]     one JSON object: counts per channel and what the
                                              station's run summary also reports; a log cut by
                                              a crash is read up to the cut ("damage" names its
-                                             offset); a file that is not a log is exit 1
+                                             offset); what the log's checks say ("checks": the
+                                             events whose bytes changed); a file that is not a
+                                             log is exit 1
 As a module: events(path) yields raw events, decoded(path) decoded ones, resign(blob) makes a
 log's checks (SCULPT_CHECK, logging/event_check.hpp) match its bytes again.
 """
@@ -90,6 +92,31 @@ def events(path):
         at = end
 
 
+def check_events(path):
+    """What the log's checks (SCULPT_CHECK) say of its events: how many a check covered, those
+    that do not match theirs (offset, event number), and how many no check covered (a crash's
+    tail, a log without checks). Reads up to any damage."""
+    crcs, checked, failed = {}, 0, []
+    try:
+        for offset, number, utime, channel, data in events(path):
+            if channel != "SCULPT_CHECK":
+                name = channel.encode("utf-8")
+                head = HEADER.pack(SYNC, number, utime, len(name), len(data))
+                crcs[number] = (offset, zlib.crc32(head + name + data))
+                continue
+            first, count = struct.unpack_from(">qi", data, 8)  # past the type's fingerprint
+            for k in range(count):
+                seen = crcs.pop(first + k, None)
+                if seen is None:
+                    continue
+                checked += 1
+                if seen[1] != struct.unpack_from(">I", data, 20 + 4 * k)[0]:
+                    failed.append({"offset": seen[0], "event": first + k})
+    except (LogDamage, struct.error):
+        pass
+    return {"checked": checked, "failed": failed, "unchecked": len(crcs)}
+
+
 def load_types(types_dir):
     sys.path.insert(0, types_dir)
     import sculpt_lcm  # noqa: E402  (generated at build time)
@@ -143,6 +170,7 @@ def summary(path, types):
         "tick_time_max_us": max(tick_times) if tick_times else None,
         "peak_haptic_force": peak_haptic,
         "damage": damage,
+        "checks": check_events(path),
     }
 
 

@@ -109,6 +109,29 @@ whole, cut = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
 assert cut["damage"] is not None and "byte offset" in cut["damage"]["what"], cut["damage"]
 assert sum(cut["channels"].values()) == sum(whole["channels"].values()) - 1, (cut["channels"], whole["channels"])
 PY
+# The log's checks, read by Python too: every event of the whole log checked and matching; a
+# byte changed in a collision's payload afterwards is named by its offset.
+"$py" - "$work/sphere-press.lcmlog" "$work/flipped.lcmlog" "$work/flipped.expect" <<'PY'
+import struct, sys
+data = bytearray(open(sys.argv[1], 'rb').read())
+pos = 0
+while pos < len(data):
+    _, _, _, cl, dl = struct.unpack('>IqqiI', data[pos:pos + 28])
+    if data[pos + 28:pos + 28 + cl] == b'SCULPT_COLLISION':
+        data[pos + 28 + cl + dl - 1] ^= 1
+        break
+    pos += 28 + cl + dl
+open(sys.argv[2], 'wb').write(bytes(data))
+open(sys.argv[3], 'w').write(str(pos))
+PY
+"$SOURCE/scripts/lcm_log.py" "$work/flipped.lcmlog" --types "$BUILD/lcmtypes/python" >"$work/flipped.json" || fail "lcm_log.py on a flipped log"
+"$py" - "$work/py.json" "$work/flipped.json" "$(cat "$work/flipped.expect")" <<'PY' && pass "lcm_log.py reads the log's checks: all match, and a changed byte is named" || fail "lcm_log.py checks"
+import json, sys
+whole, flipped, at = json.load(open(sys.argv[1])), json.load(open(sys.argv[2])), int(sys.argv[3])
+events = sum(n for c, n in whole["channels"].items() if c != "SCULPT_CHECK")
+assert whole["checks"] == {"checked": events, "failed": [], "unchecked": 0}, (whole["checks"], events)
+assert [f["offset"] for f in flipped["checks"]["failed"]] == [at], flipped["checks"]
+PY
 printf 'not a log at all' >"$work/junk.lcmlog"
 "$SOURCE/scripts/lcm_log.py" "$work/junk.lcmlog" --types "$BUILD/lcmtypes/python" >/dev/null 2>"$work/junk.err" &&
   fail "lcm_log.py accepted bytes that are not a log" ||
