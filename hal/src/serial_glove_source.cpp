@@ -4,7 +4,6 @@
 
 #include <poll.h>
 #include <sys/eventfd.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -47,11 +46,7 @@ SerialGloveSource::~SerialGloveSource() {
 
 void SerialGloveSource::start() {
   if (thread_.joinable()) throw std::runtime_error("serial glove " + config_.device + ": already started");
-  struct stat st {};
-  if (::stat(config_.device.c_str(), &st) == 0 && !S_ISCHR(st.st_mode)) {
-    throw std::runtime_error("serial glove " + config_.device +
-                             ": exists but is not a character device (a serial port or pty)");
-  }
+  require_character_device_if_present(config_.device, "serial glove");
   drain_eventfd(wake_fd_);
   stop_requested_.store(false, std::memory_order_relaxed);
   ever_connected_ = false;

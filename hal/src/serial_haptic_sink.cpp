@@ -4,7 +4,6 @@
 
 #include <poll.h>
 #include <sys/eventfd.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -42,11 +41,7 @@ void SerialHapticSink::start() {
   if (thread_.joinable()) {
     throw std::runtime_error("serial haptic sink " + config_.device + ": already started");
   }
-  struct stat st {};
-  if (::stat(config_.device.c_str(), &st) == 0 && !S_ISCHR(st.st_mode)) {
-    throw std::runtime_error("serial haptic sink " + config_.device +
-                             ": exists but is not a character device (a serial port or pty)");
-  }
+  require_character_device_if_present(config_.device, "serial haptic sink");
   stop_requested_.store(false, std::memory_order_relaxed);
   sequence_ = 0;
   // One attempt here; a rate the device refuses stops the start, as the glove source's does.

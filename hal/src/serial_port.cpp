@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -193,6 +194,13 @@ void validate_serial_config(const SerialConfig& config, const char* who) {
   if (!std::isfinite(config.reconnect_interval_ms) || config.reconnect_interval_ms <= 0.0) {
     throw std::invalid_argument(std::string(who) + " " + config.device +
                                 ": reconnect_interval_ms must be positive and finite");
+  }
+}
+
+void require_character_device_if_present(const std::string& device, const std::string& who) {
+  struct stat st {};
+  if (::stat(device.c_str(), &st) == 0 && !S_ISCHR(st.st_mode)) {
+    throw std::runtime_error(who + " " + device + ": exists but is not a character device (a serial port or pty)");
   }
 }
 

@@ -11,11 +11,13 @@
 
 #include <array>
 #include <chrono>
-#include <future>
 #include <cstdint>
+#include <functional>
+#include <future>
 #include <stdexcept>
 #include <string>
-#include <thread>
+
+#include "support/eventually.hpp"
 
 namespace sculpt::hal::testing_support {
 
@@ -112,16 +114,10 @@ std::string start_within_3_s(Device& device, LoopbackListener& server) {
   return returned ? said : "still starting after 3 s";
 }
 
-// Waits until `done()` holds, calling it every 5 ms for up to 10 s (these tests wait on looks a
-// second apart, and a loaded machine is slow at times); what done() says at the end.
-template <typename Done>
-bool eventually(const Done& done) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return done();
+// support/eventually.hpp with these tests' patience: up to 10 s, as they wait on looks a second
+// apart and a loaded machine is slow at times.
+inline bool eventually(const std::function<bool()>& done) {
+  return test::eventually(done, std::chrono::seconds(10), std::chrono::milliseconds(5));
 }
 
 }  // namespace sculpt::hal::testing_support

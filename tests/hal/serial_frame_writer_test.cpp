@@ -18,6 +18,8 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -74,6 +76,11 @@ class Relay {
 };
 
 using test::eventually;
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 SerialConfig config_for(const std::string& device) {
   SerialConfig c;
@@ -280,6 +287,26 @@ TEST(SerialHapticSink, DropsCommandsWhileTheDeviceIsAbsentAndWritesOnceItIsBack)
   EXPECT_GT(frames[0].device_time_us, 0u);
   EXPECT_EQ(sink.dropped(), dropped);
   sink.stop();
+  std::filesystem::remove_all(dir);
+}
+
+// A file where the glove's device should be would be written to as a glove: refused at start,
+// as the glove source refuses it, naming the path.
+TEST(SerialHapticSink, StartRefusesAPathThatIsNotADevice) {
+  char pattern[] = "/tmp/sculpt-sink-XXXXXX";
+  ASSERT_NE(::mkdtemp(pattern), nullptr);
+  const std::filesystem::path dir = pattern;
+  const std::string file = (dir / "plain.txt").string();
+  std::ofstream(file) << "not a tty";
+  SerialHapticSink sink(config_for(file), 16);
+  try {
+    sink.start();
+    ADD_FAILURE() << "start() accepted a regular file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "serial haptic sink " + file + ": exists but is not a character device (a serial port or pty)");
+  }
+  EXPECT_EQ(file_text(file), "not a tty") << "nothing was written to it";
   std::filesystem::remove_all(dir);
 }
 

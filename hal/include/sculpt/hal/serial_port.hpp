@@ -103,6 +103,12 @@ class SerialPort {
 /// reconnect interval that is not positive and finite.
 void validate_serial_config(const SerialConfig& config, const char* who);
 
+/// At start: a device path that exists must be a character device (a serial port or a pty); a
+/// file or folder there would be read as a glove or written to as one. A path that does not
+/// exist yet is left to the backend's reconnects (a glove not plugged in). Throws
+/// std::runtime_error "WHO DEVICE: exists but is not a character device (a serial port or pty)".
+void require_character_device_if_present(const std::string& device, const std::string& who);
+
 /// A non-blocking eventfd that wakes an I/O thread out of poll(); throws std::runtime_error
 /// naming `who` when the kernel refuses one.
 int make_wake_fd(const std::string& who);
