@@ -281,7 +281,8 @@ class RunCommand final : public Command {
                   {"ticks_left_out", c.ticks_left_out},
                   {"haptic", c.haptic},
                   {"dropped", c.log_dropped},
-                  {"write_errors", c.write_errors}};
+                  {"write_errors", c.write_errors},
+                  {"checks", c.log_checks}};
     }
     if (c.publishing) {
       j["live"] = {{"collisions", c.live_collisions},

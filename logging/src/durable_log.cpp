@@ -65,8 +65,8 @@ DurableLog::DurableLog(DurableLogConfig config)
   }
   lock_writer();
   event_ = std::make_unique<lcm::LogEvent>();
-  // The check's arrays at their largest now, so that the writer thread never allocates.
-  check_.crc.reserve(kMaxCheckedEvents);
+  // The check's arrays at their largest now (clear() keeps the capacity), so that the writer
+  // thread never allocates.
   check_.count = static_cast<std::int32_t>(kMaxCheckedEvents);
   check_.crc.resize(kMaxCheckedEvents);
   check_buffer_.resize(static_cast<std::size_t>(check_.getEncodedSize()));

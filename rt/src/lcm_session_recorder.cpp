@@ -59,6 +59,7 @@ RecordingCounts LcmSessionRecorder::counts() const {
     r.haptic = c[logging::LogKind::kHaptic].written;
     r.log_dropped = c.dropped();
     r.write_errors = c.write_errors;
+    r.log_checks = c.checks;
   }
   if (publisher_) {
     const logging::PublisherCounters c = publisher_->counters();

@@ -29,6 +29,7 @@ public class DecodeSculptLcm {
         case "SCULPT_COLLISION": new sculpt_lcm.collision_event_t(data); break;
         case "SCULPT_TICK": new sculpt_lcm.tick_stats_t(data); break;
         case "SCULPT_HAPTIC": new sculpt_lcm.haptic_command_t(data); break;
+        case "SCULPT_CHECK": new sculpt_lcm.log_check_t(data); break;
         default: return;  // another program's channel
       }
       counts.merge(channel, 1, Integer::sum);

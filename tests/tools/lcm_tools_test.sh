@@ -72,7 +72,8 @@ logged, log_status = counts(sys.argv[4]), int(sys.argv[5])
 py = json.load(open(sys.argv[6]))
 log = summary["recording"]["log"]
 expected = {"SCULPT_SESSION": 1, "SCULPT_GLOVE": log["glove_samples"], "SCULPT_FINGERTIP": log["fingertips"],
-            "SCULPT_TICK": log["ticks"], "SCULPT_COLLISION": log["collisions"], "SCULPT_HAPTIC": log["haptic"]}
+            "SCULPT_TICK": log["ticks"], "SCULPT_COLLISION": log["collisions"], "SCULPT_HAPTIC": log["haptic"],
+            "SCULPT_CHECK": log["checks"]}
 bad = []
 def check(ok, what):
     print(("ok: " if ok else "FAIL: ") + what)
