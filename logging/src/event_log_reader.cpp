@@ -88,7 +88,8 @@ EventLogReader::Header EventLogReader::read_header(std::uint64_t offset) {
   return header;
 }
 
-std::string EventLogReader::check(std::uint64_t offset, const Header& header, std::string& channel) {
+std::string EventLogReader::check(std::uint64_t offset, const Header& header, std::string& channel, bool& cut) {
+  cut = false;
   if (header.sync != kLogSyncWord) {
     return "bad sync word " + hex32(header.sync) + " (expected " + hex32(kLogSyncWord) + ")";
   }
@@ -102,6 +103,7 @@ std::string EventLogReader::check(std::uint64_t offset, const Header& header, st
                               static_cast<std::uint64_t>(header.data_length);
   const std::uint64_t left = size_ - offset;
   if (needs > left) {
+    cut = true;
     return "truncated event: needs " + std::to_string(needs) + " bytes, " + std::to_string(left) + " left";
   }
   channel.resize(static_cast<std::size_t>(header.channel_length));
@@ -117,8 +119,9 @@ std::string EventLogReader::check(std::uint64_t offset, const Header& header, st
   return {};
 }
 
-EventLogReader::Result EventLogReader::corrupt(std::string what) {
+EventLogReader::Result EventLogReader::corrupt(std::string what, bool cut) {
   error_ = path_ + ": byte offset " + std::to_string(position_) + ": " + what;
+  error_is_cut_ = cut;
   error_offset_ = position_;
   ++corrupt_events_;
   resync_pending_ = true;
@@ -139,7 +142,8 @@ void EventLogReader::resynchronise() {
       if (load_u32(scan_buffer_.data() + i) != kLogSyncWord) continue;
       const std::uint64_t candidate = pos + i;
       if (size_ - candidate < kLogHeaderSize) continue;
-      if (check(candidate, read_header(candidate), channel).empty()) {
+      bool cut = false;
+      if (check(candidate, read_header(candidate), channel, cut).empty()) {
         skipped_bytes_ += candidate - start;
         position_ = candidate;
         return;
@@ -159,12 +163,14 @@ EventLogReader::Result EventLogReader::next(LogEvent& out) {
   if (position_ >= size_) return Result::kEnd;
   const std::uint64_t left = size_ - position_;
   if (left < kLogHeaderSize) {
-    return corrupt("truncated event header: needs " + std::to_string(kLogHeaderSize) + " bytes, " +
-                   std::to_string(left) + " left");
+    return corrupt(
+        "truncated event header: needs " + std::to_string(kLogHeaderSize) + " bytes, " + std::to_string(left) + " left",
+        /*cut=*/true);
   }
   const Header header = read_header(position_);
-  std::string why = check(position_, header, out.channel);
-  if (!why.empty()) return corrupt(std::move(why));
+  bool cut = false;
+  std::string why = check(position_, header, out.channel, cut);
+  if (!why.empty()) return corrupt(std::move(why), cut);
   out.offset = position_;
   out.number = header.number;
   out.utime = header.utime;

@@ -1,5 +1,7 @@
 #include "sculpt/logging/event_log_walk.hpp"
 
+#include <algorithm>
+#include <cstddef>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -11,23 +13,32 @@
 namespace sculpt::logging {
 namespace {
 
+// The durable log writes a check after its first event and at least every kMaxCheckedEvents
+// events after that: a log with no check among its first this many events has none (it was
+// written before checks, or by another program), even if one check in between was damaged.
+constexpr std::size_t kEventsBeforeUnchecked = 2 * kMaxCheckedEvents + 1;
+
 // What the walk met, in file order: an event, or damage (held in order with the events).
 struct Met {
   LogEvent event;
   bool damage = false;
+  bool cut = false;          // damage that is bytes running out at the end (EventLogReader)
   std::uint64_t offset = 0;  // damage's
   std::string what;          // damage's
 };
 
-// The walk of a checked log: what it meets is held until the check that covers it, then handed
-// on in order, an event whose CRC-32 does not match its check as damage. An event no check
-// covers (its check was damaged) goes on unchecked; so does the tail a crash left after the
-// last check.
+// The walk of a checked log: what it meets is held until the next check, then handed on in
+// order, an event whose CRC-32 does not match its check as damage. Events that check does not
+// cover (their own check was damaged, renamed or swallowed) are damage too, one report for the
+// run of them: a length changed in one event can swallow the check after it, and the event
+// with it. The tail a crash left after the last check goes on unchecked, as before checks.
 class CheckedWalk {
  public:
   CheckedWalk(const std::string& path, const std::function<void(const LogEvent&)>& on_event,
               const std::function<void(std::uint64_t, const std::string&)>& on_damage)
       : path_(path), on_event_(on_event), on_damage_(on_damage) {}
+
+  std::size_t held() const noexcept { return held_; }
 
   // Takes `event`'s buffers (swapped with a spent entry's, so that their capacity goes round).
   void hold(LogEvent& event) {
@@ -35,34 +46,34 @@ class CheckedWalk {
     std::swap(met.event, event);
     met.damage = false;
   }
-  void hold_damage(std::uint64_t offset, const std::string& what) {
+  void hold_damage(std::uint64_t offset, const std::string& what, bool cut = false) {
     Met& met = next_slot();
     met.damage = true;
+    met.cut = cut;
     met.offset = offset;
     met.what = what;
   }
 
   // A SCULPT_CHECK event: everything held is handed on in order, each event it covers only if
   // it matches; a check that does not decode (or whose numbers are not a log's) is damage, and
-  // its events wait for the next check, which hands them on unchecked.
+  // so are its events at the next check.
   void check(const LogEvent& event) {
     sculpt_lcm::log_check_t check;
     std::string error;
     if (!decode(event, check, error)) {
-      hold_damage(event.offset, path_ + ": byte offset " + std::to_string(event.offset) + ": " + error);
+      hold_damage(event.offset, where(event.offset) + error);
       return;
     }
     if (check.count < 0 || static_cast<std::size_t>(check.count) != check.crc.size() || check.first_event < 0 ||
         check.first_event > std::numeric_limits<std::int64_t>::max() - check.count) {
-      hold_damage(event.offset, path_ + ": byte offset " + std::to_string(event.offset) +
-                                    ": a check whose numbers are not a log's (first event " +
+      hold_damage(event.offset, where(event.offset) + "a check whose numbers are not a log's (first event " +
                                     std::to_string(check.first_event) + ", count " + std::to_string(check.count) + ")");
       return;
     }
-    // Every event held came before this check, and the durable log writes a check after its
-    // events: one outside the check's numbers is one whose own check was damaged, handed on
-    // unchecked.
     const std::int64_t first = check.first_event, end = first + check.count;
+    const auto covered = [&](const Met& met) {
+      return met.damage || (met.event.number >= first && met.event.number < end);
+    };
     for (std::size_t k = 0; k < held_; ++k) {
       const Met& met = held_items_[k];
       if (met.damage) {
@@ -70,23 +81,31 @@ class CheckedWalk {
         continue;
       }
       const LogEvent& e = met.event;
-      if (e.number >= first && e.number < end) {
-        const auto expected = static_cast<std::uint32_t>(check.crc[static_cast<std::size_t>(e.number - first)]);
-        if (event_crc32(e.number, e.utime, e.channel, e.data.data(), e.data.size()) != expected) {
-          ++failed_;
-          on_damage_(e.offset, path_ + ": byte offset " + std::to_string(e.offset) + ": event " +
-                                   std::to_string(e.number) + " on " + e.channel +
-                                   " does not match its check (CRC-32 of the log's check at byte offset " +
-                                   std::to_string(event.offset) + "): a byte in it changed");
-          continue;
+      if (!covered(met)) {
+        // Every event before a check is its own or an earlier check's: this one's check is gone
+        // (damaged, renamed, or swallowed by a damaged length), and its bytes cannot be trusted.
+        if (k == 0 || covered(held_items_[k - 1])) {
+          report_uncovered(
+              k, covered,
+              "their own was damaged: the check at byte offset " + std::to_string(event.offset) + " is the next one's");
         }
+        continue;
+      }
+      const auto expected = static_cast<std::uint32_t>(check.crc[static_cast<std::size_t>(e.number - first)]);
+      if (event_crc32(e.number, e.utime, e.channel, e.data.data(), e.data.size()) != expected) {
+        ++failed_;
+        on_damage_(e.offset, where(e.offset) + "event " + std::to_string(e.number) + " on " + e.channel +
+                                 " does not match its check (CRC-32 of the log's check at byte offset " +
+                                 std::to_string(event.offset) + "): a byte in it changed");
+        continue;
       }
       on_event_(e);
     }
     held_ = 0;
   }
 
-  // The end of the log: what no check followed (a crash's tail) goes on as it was read.
+  // The end of a log without checks, or of the events it is known by: what is held goes on as
+  // it was read.
   void finish() {
     for (std::size_t k = 0; k < held_; ++k) {
       Met& met = held_items_[k];
@@ -99,9 +118,48 @@ class CheckedWalk {
     held_ = 0;
   }
 
+  // The end of a checked log. Its tail after the last check goes on unchecked when it is what a
+  // crash leaves (whole events, perhaps cut short at the end); damage of another kind among
+  // them may have swallowed their check (a length changed in the last event reaches into it),
+  // so then the tail's events are left out, one report for them.
+  void finish_checked(std::uint64_t file_size) {
+    const bool crash_tail = std::none_of(held_items_.begin(), held_items_.begin() + static_cast<std::ptrdiff_t>(held_),
+                                         [](const Met& met) { return met.damage && !met.cut; });
+    if (crash_tail) {
+      finish();
+      return;
+    }
+    const auto covered = [](const Met& met) { return met.damage; };
+    for (std::size_t k = 0; k < held_; ++k) {
+      const Met& met = held_items_[k];
+      if (met.damage) {
+        on_damage_(met.offset, met.what);
+      } else if (k == 0 || covered(held_items_[k - 1])) {
+        report_uncovered(k, covered,
+                         "damage follows them to the end of the log, at " + std::to_string(file_size) +
+                             " bytes, which may have swallowed their check");
+      }
+    }
+    held_ = 0;
+  }
+
   std::uint64_t failed() const noexcept { return failed_; }
 
  private:
+  std::string where(std::uint64_t offset) const { return path_ + ": byte offset " + std::to_string(offset) + ": "; }
+
+  // One damage report for the run of held events from `k` that no check covers (left out),
+  // saying `why`.
+  template <typename Covered>
+  void report_uncovered(std::size_t k, const Covered& covered, const std::string& why) {
+    std::size_t count = 0;
+    std::uint64_t last = held_items_[k].event.offset;
+    for (std::size_t j = k; j < held_ && !covered(held_items_[j]); ++j, ++count) last = held_items_[j].event.offset;
+    on_damage_(held_items_[k].event.offset, where(held_items_[k].event.offset) + std::to_string(count) +
+                                                " events, to the one at byte offset " + std::to_string(last) +
+                                                ", are covered by no check (" + why + "): left out");
+  }
+
   Met& next_slot() {
     if (held_ == held_items_.size()) held_items_.emplace_back();
     return held_items_[held_++];
@@ -121,10 +179,10 @@ EventLogTotals for_each_event(const std::string& path, const std::function<void(
                               const std::function<void(std::uint64_t offset, const std::string& what)>& on_damage) {
   EventLogReader reader(path);
   CheckedWalk walk(path, on_event, on_damage);
-  // Whether the log is checked is known at its second valid event: the durable log writes a
-  // check right after its first. Until then the first is held.
+  // A log is checked from its first check on; one with no check among its first
+  // kEventsBeforeUnchecked events is read as it always was. Until one or the other is known,
+  // what the walk meets is held.
   enum class Checked { kUnknown, kYes, kNo } checked = Checked::kUnknown;
-  std::size_t valid = 0;
   LogEvent event;  // one buffer for the whole walk of an unchecked log
   for (;;) {
     const EventLogReader::Result result = reader.next(event);
@@ -133,24 +191,31 @@ EventLogTotals for_each_event(const std::string& path, const std::function<void(
       if (checked == Checked::kNo) {
         on_damage(reader.error_offset(), reader.error());
       } else {
-        walk.hold_damage(reader.error_offset(), reader.error());
+        walk.hold_damage(reader.error_offset(), reader.error(), reader.error_is_cut());
       }
       continue;
     }
     const bool is_check = event.channel == kCheckChannel;
-    if (checked == Checked::kUnknown && ++valid == 2) {
-      checked = is_check ? Checked::kYes : Checked::kNo;
-      if (checked == Checked::kNo) walk.finish();  // the first event, and damage before this one
-    }
     if (checked == Checked::kNo) {
-      if (!is_check) on_event(event);  // a check in a log read unchecked (its first was cut off)
-    } else if (is_check) {
+      if (!is_check) on_event(event);  // a check this late is another program's copy of one
+      continue;
+    }
+    if (is_check) {
+      checked = Checked::kYes;
       walk.check(event);
-    } else {
-      walk.hold(event);
+      continue;
+    }
+    walk.hold(event);
+    if (checked == Checked::kUnknown && walk.held() >= kEventsBeforeUnchecked) {
+      checked = Checked::kNo;
+      walk.finish();
     }
   }
-  walk.finish();
+  if (checked == Checked::kYes) {
+    walk.finish_checked(reader.file_size());
+  } else {
+    walk.finish();
+  }
   return {reader.file_size(), reader.skipped_bytes(), reader.corrupt_events() + walk.failed(), walk.failed()};
 }
 

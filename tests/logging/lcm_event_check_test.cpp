@@ -184,17 +184,23 @@ TEST(EventCheck, ACrashsTailAfterTheLastCheckGoesOnUnchecked) {
   const std::vector<LogEvent> events = raw_events(path);
   const LogEvent& t7 = events[10];
   ASSERT_EQ(t7.channel, kTickChannel);
-  Bytes file = read_bytes(path);
-  file.resize(t7.offset + 20);  // inside t7's header
-  write_bytes(path, file);
-  const Seen seen = walk(path);
-  EXPECT_EQ(tick_numbers(seen),
-            (std::vector<std::int64_t>{events[2].number, events[3].number, events[4].number, events[5].number,
-                                       events[6].number, events[8].number, events[9].number}));
-  ASSERT_EQ(seen.damage.size(), 1u);
-  EXPECT_EQ(seen.damage[0].first, t7.offset);
-  EXPECT_EQ(seen.totals.failed_checks, 0u);
-  EXPECT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end()));
+  const Bytes whole = read_bytes(path);
+  // Inside t7's header, and inside its payload (the header whole, its length past the end).
+  for (const std::uint64_t cut : {t7.offset + 20, end_of(t7) - 5}) {
+    Bytes file(whole.begin(), whole.begin() + static_cast<std::ptrdiff_t>(cut));
+    write_bytes(path, file);
+    const Seen seen = walk(path);
+    EXPECT_EQ(tick_numbers(seen),
+              (std::vector<std::int64_t>{events[2].number, events[3].number, events[4].number, events[5].number,
+                                         events[6].number, events[8].number, events[9].number}))
+        << "cut at " << cut;
+    ASSERT_EQ(seen.damage.size(), 1u) << "cut at " << cut;
+    EXPECT_EQ(seen.damage[0].first, t7.offset);
+    EXPECT_NE(seen.damage[0].second.find("truncated event"), std::string::npos) << seen.damage[0].second;
+    EXPECT_EQ(seen.totals.failed_checks, 0u);
+    EXPECT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end()));
+  }
+  Bytes file = whole;
 
   file.resize(t7.offset);  // a cut between two events: nothing is damaged
   write_bytes(path, file);
@@ -203,9 +209,35 @@ TEST(EventCheck, ACrashsTailAfterTheLastCheckGoesOnUnchecked) {
   EXPECT_TRUE(clean.damage.empty());
 }
 
-// A check that is itself damaged checks nothing: the reader says so, and its events go on
-// unchecked (the next check covers only its own).
-TEST(EventCheck, ADamagedCheckIsDamageAndItsEventsGoOnUnchecked) {
+// A length changed in the last event before the log's last check reaches into that check, which
+// the reader then cannot see: the event (read with the check's first bytes as its own) and the
+// others after the check before are not a crash's tail, since what follows them is not bytes
+// running out, so they are damage, not handed on.
+TEST(EventCheck, ALastCheckSwallowedByALengthLeavesItsEventsOut) {
+  const std::string path = checked_log("swallowed.lcmlog");
+  const std::vector<LogEvent> events = raw_events(path);
+  const LogEvent& t9 = events[12];
+  ASSERT_EQ(t9.channel, kTickChannel);
+  ASSERT_EQ(events[13].channel, kCheckChannel);
+  Bytes file = read_bytes(path);
+  file[t9.offset + kLogHeaderSize - 1] ^= 0x10;  // its data length, 16 bytes longer
+  write_bytes(path, file);
+  const Seen seen = walk(path);
+  EXPECT_EQ(tick_numbers(seen), (std::vector<std::int64_t>{events[2].number, events[3].number, events[4].number,
+                                                           events[5].number, events[6].number}));
+  ASSERT_EQ(seen.damage.size(), 2u);
+  EXPECT_EQ(seen.damage[0].first, events[8].offset);
+  EXPECT_NE(seen.damage[0].second.find("5 events, to the one at byte offset " + std::to_string(t9.offset) +
+                                       ", are covered by no check (damage follows them to the end of the log"),
+            std::string::npos)
+      << seen.damage[0].second;
+  EXPECT_EQ(seen.damage[1].first, end_of(t9) + 16);
+  EXPECT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end()));
+}
+
+// A check that is itself damaged checks nothing: the reader says so, and its events, which no
+// check now vouches for, are damage too (one report for the run), not handed on.
+TEST(EventCheck, ADamagedCheckAndTheEventsItCheckedAreDamage) {
   const std::string path = checked_log("bad-check.lcmlog");
   const std::vector<LogEvent> events = raw_events(path);
   const LogEvent& check = events[7];
@@ -215,25 +247,85 @@ TEST(EventCheck, ADamagedCheckIsDamageAndItsEventsGoOnUnchecked) {
   file[data_start] ^= 0x80;  // its type fingerprint
   write_bytes(path, file);
   const Seen seen = walk(path);
-  ASSERT_EQ(seen.damage.size(), 1u);
-  EXPECT_EQ(seen.damage[0].first, check.offset);
-  EXPECT_NE(seen.damage[0].second.find("log_check_t"), std::string::npos) << seen.damage[0].second;
-  EXPECT_EQ(tick_numbers(seen).size(), 10u);
-  EXPECT_EQ(seen.totals.failed_checks, 0u);
-  EXPECT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end()));
+  // t0..t4, the events the damaged check held, then the check itself, in file order.
+  const std::vector<std::int64_t> later{events[8].number, events[9].number, events[10].number, events[11].number,
+                                        events[12].number};
+  const auto expect_left_out = [&](const Seen& s, const std::string& why) {
+    ASSERT_EQ(s.damage.size(), 2u);
+    EXPECT_EQ(s.damage[0].first, events[2].offset);
+    EXPECT_NE(s.damage[0].second.find("5 events, to the one at byte offset " + std::to_string(events[6].offset) +
+                                      ", are covered by no check"),
+              std::string::npos)
+        << s.damage[0].second;
+    EXPECT_EQ(s.damage[1].first, check.offset);
+    EXPECT_NE(s.damage[1].second.find(why), std::string::npos) << s.damage[1].second;
+    EXPECT_EQ(tick_numbers(s), later) << "only the ticks the next check vouches for";
+    EXPECT_EQ(s.totals.failed_checks, 0u);
+    EXPECT_TRUE(std::is_sorted(s.order.begin(), s.order.end()));
+  };
+  expect_left_out(seen, "log_check_t");
 
   // A check that decodes but whose first event is no log's (the largest number, where the end
-  // of its span would overflow): damage, named, and its events go on unchecked.
+  // of its span would overflow): the same.
   file[data_start] ^= 0x80;  // the fingerprint as it was
   for (std::size_t b = 0; b < 8; ++b) file[data_start + 8 + b] = b == 0 ? 0x7f : 0xff;
   write_bytes(path, file);
-  const Seen numbers = walk(path);
-  ASSERT_EQ(numbers.damage.size(), 1u);
-  EXPECT_NE(numbers.damage[0].second.find("a check whose numbers are not a log's (first event 9223372036854775807"),
-            std::string::npos)
-      << numbers.damage[0].second;
-  EXPECT_EQ(tick_numbers(numbers).size(), 10u);
-  EXPECT_TRUE(std::is_sorted(numbers.order.begin(), numbers.order.end()));
+  expect_left_out(walk(path), "a check whose numbers are not a log's (first event 9223372036854775807");
+}
+
+// Every byte of a checked log flipped in turn: whatever the flip hits (a sync word, a length, a
+// number, a time, a payload, a check's channel or contents), no event is handed on with bytes
+// other than those written at its offset, and a flip inside an event is always reported. A flip
+// inside a check costs its events (reported), or nothing (its own number or time, which nothing
+// reads; the last check's name, which makes its events a crash's tail: unchanged, unchecked).
+TEST(EventCheck, NoFlippedByteAnywhereHandsOnAChangedEvent) {
+  const std::string path = checked_log("every-byte.lcmlog");
+  const Bytes original = read_bytes(path);
+  const std::vector<LogEvent> written = raw_events(path);
+  const auto written_at = [&](std::uint64_t offset) -> const LogEvent* {
+    for (const LogEvent& e : written) {
+      if (e.offset == offset) return &e;
+    }
+    return nullptr;
+  };
+  const std::string flipped_path = temp_path("every-byte-flipped.lcmlog");
+  std::size_t in_events = 0;
+  for (std::size_t at = 0; at < original.size(); ++at) {
+    const LogEvent* hit = nullptr;
+    for (const LogEvent& e : written) {
+      if (at >= e.offset && at < end_of(e)) hit = &e;
+    }
+    ASSERT_NE(hit, nullptr);
+    Bytes flipped = original;
+    flipped[at] ^= 0x10;
+    write_bytes(flipped_path, flipped);
+    const Seen seen = walk(flipped_path);
+    for (const LogEvent& e : seen.events) {
+      const LogEvent* was = written_at(e.offset);
+      ASSERT_NE(was, nullptr) << "byte " << at << ": an event handed on at offset " << e.offset
+                              << ", where none was written";
+      if (was->channel == kCheckChannel) {
+        // The log's last check, renamed by the flip: with the events after the check before it,
+        // a crash's tail to the walk, handed on unchecked and unchanged; under its new name it is
+        // no station channel, which every reader passes over.
+        ASSERT_EQ(hit, was) << "byte " << at;
+        for (const char* station : {kSessionChannel, kGloveChannel, kFingertipChannel, kCollisionChannel, kTickChannel,
+                                    kHapticChannel, kCheckChannel}) {
+          ASSERT_NE(e.channel, station) << "byte " << at << ": a check handed on as a station channel";
+        }
+        continue;
+      }
+      ASSERT_EQ(e.channel, was->channel) << "byte " << at;
+      ASSERT_EQ(e.utime, was->utime) << "byte " << at;
+      ASSERT_EQ(e.data, was->data) << "byte " << at << " changed the payload of the event at " << e.offset;
+    }
+    ASSERT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end())) << "byte " << at;
+    if (hit->channel != kCheckChannel) {
+      ++in_events;
+      ASSERT_FALSE(seen.damage.empty()) << "byte " << at << " in the event at " << hit->offset << " went unreported";
+    }
+  }
+  EXPECT_GT(in_events, original.size() / 2);
 }
 
 // A log with no check after its first event (lcm-logger's, or the durable log's before checks)

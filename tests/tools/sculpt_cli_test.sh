@@ -665,7 +665,8 @@ data = bytearray(open(sys.argv[1], 'rb').read())
 starts, pos = [], 0
 while pos < len(data):
     _, _, _, cl, dl = struct.unpack('>IqqiI', data[pos:pos + 28])
-    starts.append(pos)
+    if data[pos + 28:pos + 28 + cl] != b'SCULPT_CHECK':  # a check's loss would cost its events too
+        starts.append(pos)
     pos += 28 + cl + dl
 middle = starts[len(starts) // 2]
 data[middle:middle + 4] = b'\x12\x34\x56\x78'                   # break an event mid-file

@@ -68,6 +68,9 @@ class EventLogReader {
   const std::string& error() const noexcept { return error_; }
   /// The byte offset the last kCorrupt describes (where the bad bytes begin).
   std::uint64_t error_offset() const noexcept { return error_offset_; }
+  /// Whether the last kCorrupt is bytes that run out (an event or header longer than what is
+  /// left of the file): what a crash leaves at the end, unlike bytes that are not an event.
+  bool error_is_cut() const noexcept { return error_is_cut_; }
   /// Bytes passed over while resynchronising (including a truncated tail).
   std::uint64_t skipped_bytes() const noexcept { return skipped_bytes_; }
   /// kCorrupt results so far.
@@ -83,12 +86,13 @@ class EventLogReader {
     std::int32_t channel_length = 0;
     std::int32_t data_length = 0;
   };
-  Result corrupt(std::string what);
+  Result corrupt(std::string what, bool cut);
   void read_at(std::uint64_t offset, void* buffer, std::size_t size);
   Header read_header(std::uint64_t offset);
-  /// Empty when the event at `offset` (header already read) is well-formed, else why not.
-  /// Reads the channel name into `channel` once its length is known to be sane.
-  std::string check(std::uint64_t offset, const Header& header, std::string& channel);
+  /// Empty when the event at `offset` (header already read) is well-formed, else why not (and
+  /// `cut` says whether it is longer than what is left). Reads the channel name into `channel`
+  /// once its length is known to be sane.
+  std::string check(std::uint64_t offset, const Header& header, std::string& channel, bool& cut);
   void resynchronise();
 
   std::string path_;
@@ -98,6 +102,7 @@ class EventLogReader {
   bool resync_pending_ = false;
   std::string error_;
   std::uint64_t error_offset_ = 0;
+  bool error_is_cut_ = false;
   std::uint64_t skipped_bytes_ = 0;
   std::uint64_t corrupt_events_ = 0;
   std::vector<std::uint8_t> scan_buffer_;

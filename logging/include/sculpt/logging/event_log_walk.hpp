@@ -22,9 +22,11 @@ struct EventLogTotals {
 /// Reads `path` from start to end: `on_event` for each valid event, in file order, and
 /// `on_damage(offset, what)` for each place that is not one, `what` being "<path>: byte offset
 /// N: ..." (EventLogReader::error()). Reading resumes at the next plausible event.
-/// A checked log (event_check.hpp) hands each event on once its check has come, and an event
-/// that does not match its check is damage; the checks themselves are not handed on. What no
-/// check follows (a crash's tail, or events whose check was damaged) is handed on as read.
+/// A checked log (event_check.hpp) hands each event on once its check has come; an event that
+/// does not match its check, and a run of events no check covers (their check was damaged), is
+/// damage and is not handed on. The checks themselves are not handed on. What no check follows
+/// (a crash's tail) is handed on as read. A log with no check among its first 8,193 events is
+/// read unchecked.
 /// @throw LogFileError when the file cannot be opened or read (not damage in it).
 EventLogTotals for_each_event(const std::string& path, const std::function<void(const LogEvent&)>& on_event,
                               const std::function<void(std::uint64_t offset, const std::string& what)>& on_damage);

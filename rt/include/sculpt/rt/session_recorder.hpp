@@ -23,7 +23,7 @@ struct RecordingCounts {
   std::uint64_t ticks_left_out = 0;  ///< quiet ticks the log did not keep (TickLogFilter)
   std::uint64_t log_dropped = 0, write_errors = 0;
   std::uint64_t log_checks = 0;  ///< SCULPT_CHECK events written (logging/event_check.hpp)
-  bool publishing = false;  ///< the live channels are published
+  bool publishing = false;       ///< the live channels are published
   std::uint64_t live_fingertips = 0, live_collisions = 0, live_ticks = 0, live_dropped = 0;
 };
 
