@@ -18,21 +18,6 @@
 
 namespace sculpt::hal {
 
-namespace {
-
-// Where a tcpq URL's host begins and ends: `tcpq://HOST[:PORT][?OPTIONS]`.
-struct HostSpan {
-  std::size_t begin = 0, end = 0;
-};
-
-HostSpan host_span(std::string_view url) noexcept {
-  const std::size_t begin = kTcpqScheme.size();
-  const std::size_t end = std::min(url.find_first_of(":?", begin), url.size());
-  return {begin, end};
-}
-
-}  // namespace
-
 std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept {
   if (!is_tcpq_url(url)) return std::nullopt;
   std::string_view network = url.substr(kTcpqScheme.size());
@@ -58,8 +43,10 @@ std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept {
 
 std::optional<std::string> tcpq_url_by_address(const std::string& url) {
   if (!is_tcpq_url(url)) return url;
-  const HostSpan span = host_span(url);
-  const std::string host = url.substr(span.begin, span.end - span.begin);
+  // tcpq://HOST[:PORT][?OPTIONS]
+  const std::size_t begin = kTcpqScheme.size();
+  const std::size_t end = std::min(url.find_first_of(":?", begin), url.size());
+  const std::string host = url.substr(begin, end - begin);
   in_addr numeric{};
   if (host.empty() || ::inet_pton(AF_INET, host.c_str(), &numeric) == 1) return url;  // an address already
   addrinfo wanted{};
@@ -72,7 +59,7 @@ std::optional<std::string> tcpq_url_by_address(const std::string& url) {
   const bool written = ::inet_ntop(AF_INET, &address->sin_addr, text.data(), text.size()) != nullptr;
   ::freeaddrinfo(found);
   if (!written) return std::nullopt;
-  return url.substr(0, span.begin) + text.data() + url.substr(span.end);
+  return url.substr(0, begin) + text.data() + url.substr(end);
 }
 
 bool tcpq_server_answers(std::string_view url, int timeout_ms) noexcept {

@@ -61,11 +61,13 @@ class CheckedWalk {
     sculpt_lcm::log_check_t check;
     std::string error;
     if (!decode(event, check, error)) {
+      ++bad_checks_;
       hold_damage(event.offset, where(event.offset) + error);
       return;
     }
     if (check.count < 0 || static_cast<std::size_t>(check.count) != check.crc.size() || check.first_event < 0 ||
         check.first_event > std::numeric_limits<std::int64_t>::max() - check.count) {
+      ++bad_checks_;
       hold_damage(event.offset, where(event.offset) + "a check whose numbers are not a log's (first event " +
                                     std::to_string(check.first_event) + ", count " + std::to_string(check.count) + ")");
       return;
@@ -144,6 +146,9 @@ class CheckedWalk {
   }
 
   std::uint64_t failed() const noexcept { return failed_; }
+  std::uint64_t left_out() const noexcept { return left_out_; }
+  // Places reported as damage by the walk itself (the reader counts its own).
+  std::uint64_t damage_found() const noexcept { return failed_ + runs_left_out_ + bad_checks_; }
 
  private:
   std::string where(std::uint64_t offset) const { return path_ + ": byte offset " + std::to_string(offset) + ": "; }
@@ -155,6 +160,8 @@ class CheckedWalk {
     std::size_t count = 0;
     std::uint64_t last = held_items_[k].event.offset;
     for (std::size_t j = k; j < held_ && !covered(held_items_[j]); ++j, ++count) last = held_items_[j].event.offset;
+    left_out_ += count;
+    ++runs_left_out_;
     on_damage_(held_items_[k].event.offset, where(held_items_[k].event.offset) + std::to_string(count) +
                                                 " events, to the one at byte offset " + std::to_string(last) +
                                                 ", are covered by no check (" + why + "): left out");
@@ -171,6 +178,7 @@ class CheckedWalk {
   std::vector<Met> held_items_;  // the first held_ are held; the rest keep their buffers
   std::size_t held_ = 0;
   std::uint64_t failed_ = 0;
+  std::uint64_t left_out_ = 0, runs_left_out_ = 0, bad_checks_ = 0;
 };
 
 }  // namespace
@@ -216,7 +224,8 @@ EventLogTotals for_each_event(const std::string& path, const std::function<void(
   } else {
     walk.finish();
   }
-  return {reader.file_size(), reader.skipped_bytes(), reader.corrupt_events() + walk.failed(), walk.failed()};
+  return {reader.file_size(), reader.skipped_bytes(), reader.corrupt_events() + walk.damage_found(), walk.failed(),
+          walk.left_out()};
 }
 
 }  // namespace sculpt::logging

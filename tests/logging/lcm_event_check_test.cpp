@@ -163,6 +163,7 @@ TEST(EventCheck, AFlippedBitInsideAFieldIsDamageAtThatEventAndTheRestGoOn) {
   }
   const Seen seen = walk(path);
   ASSERT_EQ(seen.damage.size(), 1u);
+  EXPECT_EQ(seen.totals.left_out, 0u);
   EXPECT_EQ(seen.damage[0].first, victim.offset);
   EXPECT_NE(seen.damage[0].second.find("byte offset " + std::to_string(victim.offset) + ": event " +
                                        std::to_string(victim.number) + " on SCULPT_TICK does not match its check"),
@@ -233,6 +234,8 @@ TEST(EventCheck, ALastCheckSwallowedByALengthLeavesItsEventsOut) {
       << seen.damage[0].second;
   EXPECT_EQ(seen.damage[1].first, end_of(t9) + 16);
   EXPECT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end()));
+  EXPECT_EQ(seen.totals.left_out, 5u);
+  EXPECT_EQ(seen.totals.corrupt, seen.damage.size());
 }
 
 // A check that is itself damaged checks nothing: the reader says so, and its events, which no
@@ -261,6 +264,8 @@ TEST(EventCheck, ADamagedCheckAndTheEventsItCheckedAreDamage) {
     EXPECT_NE(s.damage[1].second.find(why), std::string::npos) << s.damage[1].second;
     EXPECT_EQ(tick_numbers(s), later) << "only the ticks the next check vouches for";
     EXPECT_EQ(s.totals.failed_checks, 0u);
+    EXPECT_EQ(s.totals.left_out, 5u);
+    EXPECT_EQ(s.totals.corrupt, 2u) << "the check, and the run it left";
     EXPECT_TRUE(std::is_sorted(s.order.begin(), s.order.end()));
   };
   expect_left_out(seen, "log_check_t");
@@ -320,6 +325,7 @@ TEST(EventCheck, NoFlippedByteAnywhereHandsOnAChangedEvent) {
       ASSERT_EQ(e.data, was->data) << "byte " << at << " changed the payload of the event at " << e.offset;
     }
     ASSERT_TRUE(std::is_sorted(seen.order.begin(), seen.order.end())) << "byte " << at;
+    ASSERT_EQ(seen.totals.corrupt, seen.damage.size()) << "byte " << at << ": every report counted once";
     if (hit->channel != kCheckChannel) {
       ++in_events;
       ASSERT_FALSE(seen.damage.empty()) << "byte " << at << " in the event at " << hit->offset << " went unreported";

@@ -28,7 +28,8 @@ constexpr bool is_tcpq_url(std::string_view url) noexcept { return url.substr(0,
 
 /// The server a tcpq URL names (`tcpq://`, `tcpq://HOST`, `tcpq://HOST:PORT`, liblcm's default
 /// 127.0.0.1:7700) when HOST is an IPv4 address in dotted form; nothing for any other URL. A host
-/// name is not looked up (a lookup can block as long as a connect): nothing.
+/// name is not looked up here (a lookup can block as long as a connect): nothing; a start gives
+/// the URL tcpq_url_by_address() made of it.
 std::optional<sockaddr_in> tcpq_server_address(std::string_view url) noexcept;
 
 /// `url` with its tcpq server's host name replaced by the IPv4 address it has now, so that

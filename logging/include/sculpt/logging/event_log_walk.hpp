@@ -15,8 +15,9 @@ namespace sculpt::logging {
 struct EventLogTotals {
   std::uint64_t file_size = 0;
   std::uint64_t skipped_bytes = 0;  ///< passed over while resynchronising (a cut tail included)
-  std::uint64_t corrupt = 0;        ///< places where the bytes were not a valid event (failed checks included)
+  std::uint64_t corrupt = 0;        ///< places that were damage (on_damage's calls)
   std::uint64_t failed_checks = 0;  ///< events whose bytes did not match their check (event_check.hpp)
+  std::uint64_t left_out = 0;       ///< events of a checked log that no check covered (not handed on)
 };
 
 /// Reads `path` from start to end: `on_event` for each valid event, in file order, and
