@@ -131,7 +131,16 @@ TEST(HardwareInTheLoop, SerialThroughAFaultyLineKeepsTheStationRunning) {
       {kSculpt, "run", scene, "--serial", link.string(), "--duration", "6", "--json", json, "--out", out, "--quiet"},
       (dir / "run.log").string());
   ASSERT_TRUE(station.started());
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // The line's faults are injected on a schedule from here: only once the station has opened its
+  // port (its log begins after its glove started), or a slow start (a sanitizer build beside a
+  // busy test) opened and flushed the port after the faults and counted none of them.
+  const fs::path session_log = dir / "sphere-press.lcmlog";
+  const auto give_up = Clock::now() + std::chrono::seconds(60);
+  while (!(fs::exists(session_log) && fs::file_size(session_log) > 0) && Clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(fs::exists(session_log) && fs::file_size(session_log) > 0)
+      << "the station did not start in 60 s: " << read_file((dir / "run.log").string());
   Process glove({kSculpt, "glove-sim", scene, "--serial", glove_side.slave_path}, (dir / "glove.log").string());
   ASSERT_TRUE(glove.started());
 
