@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 #include "sculpt/logging/event_log_reader.hpp"
 
@@ -40,6 +41,23 @@ std::uint32_t event_crc32(std::int64_t number, std::int64_t utime, std::string_v
   crc = crc_add(crc, header.data(), header.size());
   crc = crc_add(crc, reinterpret_cast<const std::uint8_t*>(channel.data()), channel.size());
   return crc_add(crc, data, size);
+}
+
+bool read_check(const LogEvent& event, sculpt_lcm::log_check_t& check, std::string& error) {
+  if (!decode(event, check, error)) return false;
+  if (check.count < 0 || static_cast<std::size_t>(check.count) != check.crc.size() || check.first_event < 0 ||
+      check.first_event > std::numeric_limits<std::int64_t>::max() - check.count) {
+    error = event.channel + " event at byte offset " + std::to_string(event.offset) +
+            ": a check whose numbers are not a log's (first event " + std::to_string(check.first_event) + ", count " +
+            std::to_string(check.count) + ")";
+    return false;
+  }
+  return true;
+}
+
+std::optional<std::uint32_t> checked_crc(const sculpt_lcm::log_check_t& check, std::int64_t number) noexcept {
+  if (number < check.first_event || number - check.first_event >= check.count) return std::nullopt;
+  return static_cast<std::uint32_t>(check.crc[static_cast<std::size_t>(number - check.first_event)]);
 }
 
 }  // namespace sculpt::logging

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <limits>
 #include <utility>
 #include <vector>
 
@@ -12,11 +11,6 @@
 
 namespace sculpt::logging {
 namespace {
-
-// The durable log writes a check after its first event and at least every kMaxCheckedEvents
-// events after that: a log with no check among its first this many events has none (it was
-// written before checks, or by another program), even if one check in between was damaged.
-constexpr std::size_t kEventsBeforeUnchecked = 2 * kMaxCheckedEvents + 1;
 
 // What the walk met, in file order: an event, or damage (held in order with the events).
 struct Met {
@@ -60,22 +54,12 @@ class CheckedWalk {
   void check(const LogEvent& event) {
     sculpt_lcm::log_check_t check;
     std::string error;
-    if (!decode(event, check, error)) {
+    if (!read_check(event, check, error)) {
       ++bad_checks_;
-      hold_damage(event.offset, where(event.offset) + error);
+      hold_damage(event.offset, path_ + ": " + error);
       return;
     }
-    if (check.count < 0 || static_cast<std::size_t>(check.count) != check.crc.size() || check.first_event < 0 ||
-        check.first_event > std::numeric_limits<std::int64_t>::max() - check.count) {
-      ++bad_checks_;
-      hold_damage(event.offset, where(event.offset) + "a check whose numbers are not a log's (first event " +
-                                    std::to_string(check.first_event) + ", count " + std::to_string(check.count) + ")");
-      return;
-    }
-    const std::int64_t first = check.first_event, end = first + check.count;
-    const auto covered = [&](const Met& met) {
-      return met.damage || (met.event.number >= first && met.event.number < end);
-    };
+    const auto covered = [&](const Met& met) { return met.damage || checked_crc(check, met.event.number); };
     for (std::size_t k = 0; k < held_; ++k) {
       const Met& met = held_items_[k];
       if (met.damage) {
@@ -93,8 +77,7 @@ class CheckedWalk {
         }
         continue;
       }
-      const auto expected = static_cast<std::uint32_t>(check.crc[static_cast<std::size_t>(e.number - first)]);
-      if (event_crc32(e.number, e.utime, e.channel, e.data.data(), e.data.size()) != expected) {
+      if (event_crc32(e.number, e.utime, e.channel, e.data.data(), e.data.size()) != *checked_crc(check, e.number)) {
         ++failed_;
         on_damage_(e.offset, where(e.offset) + "event " + std::to_string(e.number) + " on " + e.channel +
                                  " does not match its check (CRC-32 of the log's check at byte offset " +
