@@ -19,8 +19,10 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "sculpt/logging/channels.hpp"
+#include "sculpt/logging/event_check.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt_lcm/collision_event_t.hpp"
+#include "sculpt_lcm/log_check_t.hpp"
 #include "sculpt_lcm/tick_stats_t.hpp"
 #include "session_log.hpp"
 #include "support/lcm_round_trip.hpp"
@@ -84,9 +86,49 @@ Bytes written_by_lcm(const std::vector<std::pair<std::string, Bytes>>& events) {
   return Bytes(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// The events with checks among them, as the durable log writes them: one after the first event
+// and one after every `every` events more, each with the CRC-32 of the events since the last,
+// numbered and stamped as written_by_lcm() numbers and stamps them; and a last one at the end,
+// as the durable log's close writes.
+std::vector<std::pair<std::string, Bytes>> with_checks(const std::vector<std::pair<std::string, Bytes>>& events,
+                                                       std::size_t every) {
+  std::vector<std::pair<std::string, Bytes>> out;
+  sculpt_lcm::log_check_t check{};
+  for (const auto& [channel, payload] : events) {
+    const auto number = static_cast<std::int64_t>(out.size());
+    if (check.count == 0) check.first_event = number;
+    check.crc.push_back(static_cast<std::int32_t>(
+        logging::event_crc32(number, 1000 + number, channel, payload.data(), payload.size())));
+    ++check.count;
+    out.emplace_back(channel, payload);
+    if (number == 0 || check.crc.size() == every) {
+      out.emplace_back(logging::kCheckChannel, test::lcm_encode(check));
+      check.crc.clear();
+      check.count = 0;
+    }
+  }
+  if (check.count > 0) out.emplace_back(logging::kCheckChannel, test::lcm_encode(check));
+  return out;
+}
+
+// Where each event of written_by_lcm(events) begins, and the file's size after it.
+std::vector<std::size_t> event_offsets(const std::vector<std::pair<std::string, Bytes>>& events) {
+  std::vector<std::size_t> offsets{0};
+  for (const auto& [channel, payload] : events) {
+    offsets.push_back(offsets.back() + logging::kLogHeaderSize + channel.size() + payload.size());
+  }
+  return offsets;
+}
+
 void save(const std::string& path, const Bytes& bytes, std::size_t count) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(count));
+}
+
+// The first half of the log in place at `path`, read as a viewer's first catch-up reads it.
+CatchUpResult first_half(const Bytes& bytes, const std::string& path, CatchUpLog& log) {
+  save(path, bytes, bytes.size() / 2);
+  return log.events(0, kLastFrame);
 }
 
 // What reading the whole file afresh answers: the old catch-up, kept here as the truth.
@@ -145,9 +187,8 @@ TEST(CatchUpLog, DamageInsideIsCountedAndPassedAndANewSessionStartsOver) {
   const std::vector<std::pair<std::string, Bytes>> events = session_events(300);
   Bytes bytes = written_by_lcm(events);
   const std::string path = temp_path("damaged.lcmlog");
-  save(path, bytes, bytes.size() / 2);
   CatchUpLog log(path);
-  const CatchUpResult half = log.events(0, kLastFrame);
+  const CatchUpResult half = first_half(bytes, path, log);
   ASSERT_FALSE(half.events.empty());
   // A flipped sync word in the half already read changes nothing read; one in the half still
   // to come is damage once an event follows it, and the events around it are found.
@@ -176,6 +217,119 @@ TEST(CatchUpLog, DamageInsideIsCountedAndPassedAndANewSessionStartsOver) {
   save(path, bytes, bytes.size());
   expect_same(log.events(5, 9), whole_file(path, 5, 9), "forward");
   expect_same(log.events(1, 4), whole_file(path, 1, 4), "backward");
+}
+
+// A checked log is answered only as far as its checks reach: cut anywhere as it grows, the
+// reader answers what a whole read of the file up to its last check answers (the whole read
+// itself would hand on the unchecked tail, as a crash's).
+TEST(CatchUpLog, AGrowingCheckedLogIsAnsweredAsFarAsItsLastCheck) {
+  const auto events = with_checks(session_events(1000), 40);
+  const std::vector<std::size_t> offsets = event_offsets(events);
+  const Bytes bytes = written_by_lcm(events);
+  ASSERT_EQ(offsets.back(), bytes.size());
+  const std::string path = temp_path("checked.lcmlog"), checked = temp_path("checked_part.lcmlog");
+  save(path, bytes, 0);
+  CatchUpLog log(path);
+  std::int64_t next = 0;
+  std::size_t pieces = 0, answered = 0;
+  for (std::size_t cut = 0; cut < bytes.size(); cut = std::min(bytes.size(), cut + 2999 + cut % 89)) {
+    save(path, bytes, cut);
+    std::size_t checked_to = 0;
+    for (std::size_t k = 0; k < events.size() && offsets[k + 1] <= cut; ++k) {
+      if (events[k].first == logging::kCheckChannel) checked_to = offsets[k + 1];
+    }
+    save(checked, bytes, checked_to);
+    const std::int64_t last = next + 3 + static_cast<std::int64_t>(pieces % 5);
+    const CatchUpResult got = log.events(next, last);
+    expect_same(got, whole_file(checked, next, last), "cut at byte " + std::to_string(cut));
+    answered += got.events.size();
+    EXPECT_EQ(got.damage, 0u);
+    ++pieces;
+    next += 2;
+  }
+  save(path, bytes, bytes.size());
+  expect_same(log.events(next, kLastFrame), whole_file(path, next, kLastFrame), "the whole log");
+  EXPECT_GT(answered, 100u);
+  EXPECT_EQ(log.damaged(), 0u);
+  EXPECT_EQ(log.failed_checks(), 0u);
+}
+
+// The collision events of a checked log at or after byte `from`: their indices in `events`.
+std::vector<std::size_t> collisions_after(const std::vector<std::pair<std::string, Bytes>>& events,
+                                          const std::vector<std::size_t>& offsets, std::size_t from) {
+  std::vector<std::size_t> found;
+  for (std::size_t k = 0; k < events.size(); ++k) {
+    if (offsets[k] >= from && events[k].first == logging::kCollisionChannel) found.push_back(k);
+  }
+  return found;
+}
+
+TEST(CatchUpLog, ACollisionThatDoesNotMatchItsCheckIsNeverAnswered) {
+  const auto events = with_checks(session_events(300), 16);
+  const std::vector<std::size_t> offsets = event_offsets(events);
+  Bytes bytes = written_by_lcm(events);
+  const std::string path = temp_path("flipped.lcmlog");
+  CatchUpLog log(path);
+  const CatchUpResult half = first_half(bytes, path, log);
+  ASSERT_FALSE(half.events.empty());
+  // The last byte of a collision's payload is its force's lowest mantissa byte: the event still
+  // decodes, to a force a hair off, and only its check tells.
+  const std::vector<std::size_t> later = collisions_after(events, offsets, bytes.size() * 3 / 4);
+  ASSERT_FALSE(later.empty());
+  const std::size_t k = later.front();
+  bytes[offsets[k + 1] - 1] ^= 0x01;
+  save(path, bytes, bytes.size());
+  logging::CollisionRecord flipped;
+  {
+    const std::string alone = temp_path("flipped_event.lcmlog");
+    save(alone, Bytes(bytes.begin() + static_cast<long>(offsets[k]), bytes.begin() + static_cast<long>(offsets[k + 1])),
+         offsets[k + 1] - offsets[k]);
+    const auto read = read_session_log(alone);
+    ASSERT_EQ(read.collisions.size(), 1u) << "the flipped collision decodes on its own";
+    flipped = read.collisions.front();
+  }
+  const std::int64_t next = half.events.back().frame_id;
+  const CatchUpResult got = log.events(next, kLastFrame);
+  expect_same(got, whole_file(path, next, kLastFrame), "past the flip");
+  EXPECT_EQ(got.damage, 1u);
+  EXPECT_EQ(log.damaged(), 1u);
+  EXPECT_EQ(log.failed_checks(), 1u);
+  EXPECT_TRUE(std::none_of(got.events.begin(), got.events.end(),
+                           [&](const logging::CollisionRecord& r) {
+                             return r.frame_id == flipped.frame_id && r.contact_index == flipped.contact_index;
+                           }))
+      << "frame " << flipped.frame_id;
+  EXPECT_EQ(log.events(next, kLastFrame).damage, 0u) << "damage is answered once";
+}
+
+TEST(CatchUpLog, CollisionsWhoseCheckWasLostAreLeftOut) {
+  const auto events = with_checks(session_events(300), 16);
+  const std::vector<std::size_t> offsets = event_offsets(events);
+  Bytes bytes = written_by_lcm(events);
+  // A check in the log's second half, renamed: to a reader it is an event of another channel,
+  // and the collisions it checked are covered by no check.
+  std::size_t renamed = 0;
+  std::size_t collisions = 0;
+  for (std::size_t k = events.size() / 2; k < events.size(); ++k) {
+    if (events[k].first == logging::kCheckChannel) {
+      renamed = k;
+      break;
+    }
+  }
+  ASSERT_GT(renamed, 0u);
+  for (std::size_t k = renamed; k-- > 0 && events[k].first != logging::kCheckChannel;) {
+    collisions += events[k].first == logging::kCollisionChannel ? 1 : 0;
+  }
+  ASSERT_GT(collisions, 0u);
+  bytes[offsets[renamed] + logging::kLogHeaderSize] ^= 0x20;  // SCULPT_CHECK -> sCULPT_CHECK
+  const std::string path = temp_path("renamed.lcmlog");
+  save(path, bytes, bytes.size());
+  CatchUpLog log(path);
+  const CatchUpResult got = log.events(0, kLastFrame);
+  expect_same(got, whole_file(path, 0, kLastFrame), "a check renamed");
+  EXPECT_EQ(log.left_out(), collisions);
+  EXPECT_EQ(log.damaged(), 1u);
+  EXPECT_EQ(got.damage, 1u);
 }
 
 }  // namespace

@@ -175,6 +175,38 @@ TEST(FrameFollower, AGapIsFilledFromTheLogOnceTheLogReachesPastIt) {
   EXPECT_EQ(asked.back(), (std::pair<std::int64_t, std::int64_t>{1, 1}));
 }
 
+// The log answers a gap of frames 1-3: frame 2 whole, frame 3 short of one of its two events,
+// frame 1 absent. With no damage seen, an absent id is a frame that moved nothing; the short
+// frame is lost. With damage (a collision that did not match its check, say), every id the log
+// could not fill counts.
+TEST(FrameFollower, ALogGapWithDamageCountsEveryFrameItCouldNotFill) {
+  for (const std::size_t damage : {std::size_t{0}, std::size_t{1}}) {
+    Applied applied;
+    const auto source = [&](std::int64_t first, std::int64_t last) {
+      CatchUpResult r;
+      for (const auto& e : {event(2, 2), event(3, 3, 2, 1), event(4, 4)}) {
+        if (e.frame_id >= first && e.frame_id <= last) r.events.push_back(e);
+      }
+      r.reached = last < 4;
+      r.damage = damage;
+      return r;
+    };
+    FrameFollower f(applied.sink(), source, 10 * kMs);
+    f.tick(0, 1, 0);
+    f.collision(event(0, 0), 0);
+    f.tick(1, 0, 0);
+    f.tick(2, 1, 0);
+    f.tick(3, 2, 0);
+    f.tick(4, 1, 0);
+    f.collision(event(4, 4), 0);  // frames 1-3 never arrived live
+    f.settle(100 * kMs);
+    f.finish();
+    EXPECT_EQ(applied.ids, (std::vector<std::int64_t>{0, 2, 4})) << "damage " << damage;
+    EXPECT_EQ(f.diverged_frames(), damage > 0 ? 2 : 1) << "damage " << damage;
+    EXPECT_TRUE(f.diverged());
+  }
+}
+
 TEST(FrameFollower, ALogThatNeverReachesPastTheGapLeavesItDiverged) {
   Applied applied;
   const auto source = [](std::int64_t, std::int64_t) { return CatchUpResult{}; };

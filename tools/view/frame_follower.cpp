@@ -112,7 +112,13 @@ void FrameFollower::check_tail(bool final) {
   if (catch_up_) {
     // Whatever the log holds after the last frame applied is the station's history: all of it.
     // It is flushed every 100 ms, so by the time a tick is ripe the log has its frames.
-    apply_log(catch_up_(next_, kLastFrame).events, kLastFrame);
+    const CatchUpResult log = catch_up_(next_, kLastFrame);
+    apply_log(log.events, kLastFrame);
+    if (log.damage > 0) {
+      // What the damage took is not known: at least a frame, whatever the ticks say next.
+      ++gaps_;
+      diverged_ += static_cast<std::int64_t>(log.damage);
+    }
     if (last_tick_ >= newest) {
       ++gaps_;
       forget_ticks_to(through);
@@ -135,9 +141,9 @@ void FrameFollower::forget_ticks_to(std::int64_t tick) {
   ticks_.erase(ticks_.begin(), ticks_.lower_bound(last_tick_));
 }
 
-void FrameFollower::apply_log(const std::vector<logging::CollisionRecord>& events, std::int64_t last) {
-  // The log's events, one complete frame at a time, in order; a frame cut at the log's
-  // unflushed end is left for later.
+std::int64_t FrameFollower::apply_log(const std::vector<logging::CollisionRecord>& events, std::int64_t last) {
+  // The log's events, one complete frame at a time, in order.
+  std::int64_t applied = 0;
   std::size_t begin = 0;
   while (begin < events.size()) {
     std::size_t end = begin + 1;
@@ -146,9 +152,11 @@ void FrameFollower::apply_log(const std::vector<logging::CollisionRecord>& event
     if (id >= next_ && id <= last && end - begin == std::max<std::size_t>(events[begin].frame_size, 1)) {
       apply(std::span(events).subspan(begin, end - begin), id);
       ++caught_up_;
+      ++applied;
     }
     begin = end;
   }
+  return applied;
 }
 
 bool FrameFollower::ticks_explain(std::int64_t tick) const {
@@ -170,7 +178,18 @@ bool FrameFollower::fill_gap(std::int64_t last, std::int64_t waited_ns, bool fin
   if (catch_up_) {
     const CatchUpResult log = catch_up_(next_, last);
     if (log.reached) {
-      apply_log(log.events, last);
+      // The log reaches past the gap, so each of its frames is whole unless damage took some of
+      // it. Ids it lacks are frames that moved nothing, except where it showed damage: then
+      // every id it could not fill counts (an upper bound, as for a jump). A frame short of
+      // events is lost either way.
+      const std::int64_t ids = last - next_ + 1;
+      std::int64_t present = 0;
+      for (std::size_t k = 0; k < log.events.size(); ++k) {
+        const std::int64_t id = log.events[k].frame_id;
+        if (id >= next_ && id <= last && (k == 0 || log.events[k - 1].frame_id != id)) ++present;
+      }
+      const std::int64_t applied = apply_log(log.events, last);
+      diverged_ += log.damage > 0 ? ids - applied : present - applied;
       ++gaps_;
       next_ = last + 1;
       return true;

@@ -29,6 +29,9 @@ struct CatchUpResult {
   /// The log already reaches past `last` (it holds a later frame), so every frame up to `last`
   /// is in it: a log is written in order and only its unflushed tail can be missing.
   bool reached = false;
+  /// Damage the log showed since the last answer (a collision that did not match its check,
+  /// say): the frames it could have held cannot be vouched for.
+  std::size_t damage = 0;
 };
 
 class FrameFollower {
@@ -80,7 +83,8 @@ class FrameFollower {
   // Nothing waits: collisions the ticks counted and no frame brought are a loss too.
   void check_tail(bool final);
   void forget_ticks_to(std::int64_t tick);
-  void apply_log(const std::vector<logging::CollisionRecord>& events, std::int64_t last);
+  // Applies the log's complete frames in [next_, last]; returns how many.
+  std::int64_t apply_log(const std::vector<logging::CollisionRecord>& events, std::int64_t last);
   bool ticks_explain(std::int64_t tick) const;
   // Frames [next_, last] are not here: from the log, or diverged. False to wait for the log.
   bool fill_gap(std::int64_t last, std::int64_t waited_ns, bool final);
