@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "sculpt/deform/deformer.hpp"
+#include "sculpt/deform/field_worker.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/deform/model_scale.hpp"
@@ -167,6 +168,11 @@ void frame(benchmark::State& state, const std::string& name, Precision precision
   state.counters["bytes/point"] = bytes_per_point;
   state.counters["moved"] = static_cast<double>(moved);
   if (normal_skip_bound > 0.0) state.counters["normals_kept"] = static_cast<double>(normals_kept);
+  // The share of frames whose pass found the worker spinning rather than asleep (field_worker.hpp).
+  if (const FieldWorker* worker = deformer.worker(); worker != nullptr && state.iterations() > 0) {
+    state.counters["worker_awake"] =
+        static_cast<double>(worker->tasks_met_awake()) / static_cast<double>(state.iterations());
+  }
   state.counters["frames/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 

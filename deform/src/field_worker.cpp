@@ -84,6 +84,7 @@ void FieldWorker::loop() noexcept {
       __builtin_ia32_pause();
       state = state_.load(std::memory_order_acquire);
     }
+    if (generation_of(state) != handled) met_awake_.fetch_add(1, std::memory_order_relaxed);
     while (generation_of(state) == handled) {
       state_.wait(state, std::memory_order_acquire);
       state = state_.load(std::memory_order_acquire);

@@ -61,6 +61,32 @@ TEST(FieldWorker, RunsThePartsOnBothThreadsAndWaitsForThem) {
   EXPECT_EQ(worker.parts_run(), 1000u);
 }
 
+// The count of tasks that found the worker awake: one posted long after the last finds it
+// asleep (it spins 200 us, then sleeps), and of back-to-back tasks that each need both threads
+// (two parts that wait for each other) most find it spinning.
+TEST(FieldWorker, CountsTheTasksThatFoundItAwake) {
+  FieldWorker worker;
+  std::atomic<int> begun{0};
+  const auto both = [&] {
+    begun = 0;
+    worker.run_parts(
+        [](void* context, std::size_t) noexcept {
+          auto& b = *static_cast<std::atomic<int>*>(context);
+          ++b;
+          wait_for(b, 2);
+        },
+        &begun, 2);
+  };
+  both();
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const std::uint64_t before = worker.tasks_met_awake();
+  both();
+  EXPECT_EQ(worker.tasks_met_awake(), before) << "a task 20 ms after the last found the worker spinning";
+  for (int k = 0; k < 100; ++k) both();
+  EXPECT_GT(worker.tasks_met_awake(), before + 50);
+  EXPECT_EQ(worker.parts_run(), 102u);
+}
+
 // The worker, once in a part, is held there until the caller has run every other part: the
 // caller takes each part the worker has not begun rather than wait for it (a worker kept off
 // its core delays a frame by at most the part it is in). The caller's first part waits until

@@ -199,6 +199,8 @@ class Deformer {
   std::span<const std::uint32_t> region_border() const { return region_.border(); }
   const PointModel& model() const { return model_; }
   const DeformSettings& settings() const { return settings_; }
+  /// The second core's worker (settings.threads == 2), else null.
+  const FieldWorker* worker() const noexcept { return worker_.get(); }
   /// A probe position the deformer accepts: finite and within guards.probe_range bounding-box
   /// diagonals of the model's centre (so squared distances stay finite in float).
   bool probe_in_range(const Vec3& p) const noexcept;

@@ -41,6 +41,9 @@ class FieldWorker {
 
   /// How many parts the worker has run (for tests: the second core really took part).
   std::uint64_t parts_run() const noexcept { return worker_parts_.load(std::memory_order_acquire); }
+  /// How many tasks found the worker still spinning after the one before, rather than asleep
+  /// (a sleeping worker starts its first part 20-75 us after the post on these VMs).
+  std::uint64_t tasks_met_awake() const noexcept { return met_awake_.load(std::memory_order_relaxed); }
 
  private:
   void loop() noexcept;
@@ -56,6 +59,7 @@ class FieldWorker {
   std::atomic<void*> context_{nullptr};
   std::atomic<std::uint32_t> finished_{0};  // parts of the current task done
   std::atomic<std::uint64_t> worker_parts_{0};
+  std::atomic<std::uint64_t> met_awake_{0};
   std::uint64_t generation_ = 0;  // the caller's: the last task posted
   std::atomic<bool> stop_{false};
   std::thread thread_;
