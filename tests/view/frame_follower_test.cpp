@@ -272,5 +272,25 @@ TEST(FrameFollower, AViewerStartedLateCatchesUpTheWholeLog) {
   EXPECT_EQ(f.frames_caught_up(), 2u);
 }
 
+// The same late viewer, with the log showing damage on the way (a collision that did not match
+// its check): what it could take is applied, and the copy is not vouched for.
+TEST(FrameFollower, AViewerStartedLateOverADamagedLogSaysItDiverged) {
+  Applied applied;
+  const auto source = [&](std::int64_t first, std::int64_t) {
+    CatchUpResult r;
+    for (const auto& e : {event(4, 1000), event(5, 1001)}) {
+      if (e.frame_id >= first) r.events.push_back(e);
+    }
+    r.damage = first == 0 ? 1 : 0;  // found by the first read only
+    return r;
+  };
+  FrameFollower f(applied.sink(), source, 100 * kMs);
+  quiet_ticks(f, 3000, 3500, 0);
+  f.finish();
+  EXPECT_EQ(applied.ids, (std::vector<std::int64_t>{4, 5}));
+  EXPECT_TRUE(f.diverged());
+  EXPECT_EQ(f.diverged_frames(), 1);
+}
+
 }  // namespace
 }  // namespace sculpt::view
