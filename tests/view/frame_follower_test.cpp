@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <initializer_list>
 #include <vector>
 
 #include "frame_follower.hpp"
@@ -33,6 +34,25 @@ struct Applied {
     };
   }
 };
+
+// What a log of `events` answers for frame ids [first, last] (not whether it reaches past).
+CatchUpResult from_log(std::initializer_list<logging::CollisionRecord> events, std::int64_t first, std::int64_t last) {
+  CatchUpResult r;
+  for (const auto& e : events) {
+    if (e.frame_id >= first && e.frame_id <= last) r.events.push_back(e);
+  }
+  return r;
+}
+
+// Frame 0 arrives live at tick 0, then ticks 1.. with `collisions` each, and the frame
+// `last_frame` (one event) with the last of them: the frames between were lost.
+void lost_between(FrameFollower& f, std::initializer_list<int> collisions, std::int64_t last_frame) {
+  f.tick(0, 1, 0);
+  f.collision(event(0, 0), 0);
+  std::int64_t tick = 0;
+  for (const int c : collisions) f.tick(++tick, c, 0);
+  f.collision(event(last_frame, tick), 0);
+}
 
 // Ticks [first, last] with no collision.
 void quiet_ticks(FrameFollower& f, std::int64_t first, std::int64_t last, std::int64_t now) {
@@ -183,28 +203,45 @@ TEST(FrameFollower, ALogGapWithDamageCountsEveryFrameItCouldNotFill) {
   for (const std::size_t damage : {std::size_t{0}, std::size_t{1}}) {
     Applied applied;
     const auto source = [&](std::int64_t first, std::int64_t last) {
-      CatchUpResult r;
-      for (const auto& e : {event(2, 2), event(3, 3, 2, 1), event(4, 4)}) {
-        if (e.frame_id >= first && e.frame_id <= last) r.events.push_back(e);
-      }
+      CatchUpResult r = from_log({event(2, 2), event(3, 3, 2, 1), event(4, 4)}, first, last);
       r.reached = last < 4;
       r.damage = damage;
       return r;
     };
     FrameFollower f(applied.sink(), source, 10 * kMs);
-    f.tick(0, 1, 0);
-    f.collision(event(0, 0), 0);
-    f.tick(1, 0, 0);
-    f.tick(2, 1, 0);
-    f.tick(3, 2, 0);
-    f.tick(4, 1, 0);
-    f.collision(event(4, 4), 0);  // frames 1-3 never arrived live
+    lost_between(f, {0, 1, 2, 1}, 4);  // frames 1-3 never arrived live
     f.settle(100 * kMs);
     f.finish();
     EXPECT_EQ(applied.ids, (std::vector<std::int64_t>{0, 2, 4})) << "damage " << damage;
     EXPECT_EQ(f.diverged_frames(), damage > 0 ? 2 : 1) << "damage " << damage;
     EXPECT_TRUE(f.diverged());
   }
+}
+
+// Damage the log showed in an answer that did not reach past the gap yet still counts when a
+// later answer fills the gap: the catch-up reports each damage once.
+TEST(FrameFollower, DamageSeenBeforeTheLogReachesPastTheGapStillCounts) {
+  Applied applied;
+  int answers = 0;
+  const auto source = [&](std::int64_t first, std::int64_t last) {
+    ++answers;
+    if (answers == 1) {
+      CatchUpResult r;
+      r.damage = 1;  // the log so far: frame 1's event did not match its check
+      return r;
+    }
+    CatchUpResult r = from_log({event(2, 2)}, first, last);
+    r.reached = true;  // frame 3 is in the log now
+    return r;
+  };
+  FrameFollower f(applied.sink(), source, 10 * kMs);
+  lost_between(f, {1, 1, 1}, 3);  // frames 1 and 2 never arrived live
+  f.settle(20 * kMs);             // the first answer: damage, not reached
+  f.settle(40 * kMs);             // the second: reached, no new damage
+  f.finish();
+  EXPECT_GE(answers, 2);
+  EXPECT_EQ(applied.ids, (std::vector<std::int64_t>{0, 2, 3}));
+  EXPECT_EQ(f.diverged_frames(), 1) << "frame 1, which the damage took";
 }
 
 TEST(FrameFollower, ALogThatNeverReachesPastTheGapLeavesItDiverged) {

@@ -114,10 +114,12 @@ void FrameFollower::check_tail(bool final) {
     // It is flushed every 100 ms, so by the time a tick is ripe the log has its frames.
     const CatchUpResult log = catch_up_(next_, kLastFrame);
     apply_log(log.events, kLastFrame);
-    if (log.damage > 0) {
+    log_damage_ += log.damage;
+    if (log_damage_ > 0) {
       // What the damage took is not known: at least a frame, whatever the ticks say next.
       ++gaps_;
-      diverged_ += static_cast<std::int64_t>(log.damage);
+      diverged_ += static_cast<std::int64_t>(log_damage_);
+      log_damage_ = 0;
     }
     if (last_tick_ >= newest) {
       ++gaps_;
@@ -177,6 +179,7 @@ bool FrameFollower::ticks_explain(std::int64_t tick) const {
 bool FrameFollower::fill_gap(std::int64_t last, std::int64_t waited_ns, bool final) {
   if (catch_up_) {
     const CatchUpResult log = catch_up_(next_, last);
+    log_damage_ += log.damage;  // an answer that does not reach yet may have found it
     if (log.reached) {
       // The log reaches past the gap, so each of its frames is whole unless damage took some of
       // it. Ids it lacks are frames that moved nothing, except where it showed damage: then
@@ -189,7 +192,8 @@ bool FrameFollower::fill_gap(std::int64_t last, std::int64_t waited_ns, bool fin
         if (id >= next_ && id <= last && (k == 0 || log.events[k - 1].frame_id != id)) ++present;
       }
       const std::int64_t applied = apply_log(log.events, last);
-      diverged_ += log.damage > 0 ? ids - applied : present - applied;
+      diverged_ += log_damage_ > 0 ? ids - applied : present - applied;
+      log_damage_ = 0;
       ++gaps_;
       next_ = last + 1;
       return true;

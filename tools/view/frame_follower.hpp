@@ -104,6 +104,7 @@ class FrameFollower {
   std::size_t gaps_ = 0;
   std::int64_t diverged_ = 0;
   std::int64_t now_ns_ = 0;
+  std::size_t log_damage_ = 0;  // damage the log showed that no gap has counted yet
 };
 
 }  // namespace sculpt::view
