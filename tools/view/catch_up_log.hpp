@@ -63,7 +63,7 @@ class CatchUpLog {
   std::uint64_t resume_ = 0;                    // where the first event not yet read begins
   std::vector<logging::CollisionRecord> held_;  // read, from frame id forgotten_below_ on, log order
   std::int64_t forgotten_below_ = 0;
-  std::int64_t newest_ = -1;  // the largest frame id read
+  std::int64_t newest_ = -1;  // the largest frame id trusted (checked, or from an unchecked log)
   std::uint64_t bytes_read_ = 0;
   std::size_t damaged_ = 0, damage_answered_ = 0;
   std::size_t failed_checks_ = 0, left_out_ = 0;

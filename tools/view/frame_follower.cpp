@@ -143,22 +143,27 @@ void FrameFollower::forget_ticks_to(std::int64_t tick) {
   ticks_.erase(ticks_.begin(), ticks_.lower_bound(last_tick_));
 }
 
-std::int64_t FrameFollower::apply_log(const std::vector<logging::CollisionRecord>& events, std::int64_t last) {
+FrameFollower::LogFrames FrameFollower::apply_log(const std::vector<logging::CollisionRecord>& events,
+                                                  std::int64_t last) {
   // The log's events, one complete frame at a time, in order.
-  std::int64_t applied = 0;
+  LogFrames frames;
   std::size_t begin = 0;
   while (begin < events.size()) {
     std::size_t end = begin + 1;
     const std::int64_t id = events[begin].frame_id;
     while (end < events.size() && events[end].frame_id == id) ++end;
-    if (id >= next_ && id <= last && end - begin == std::max<std::size_t>(events[begin].frame_size, 1)) {
-      apply(std::span(events).subspan(begin, end - begin), id);
-      ++caught_up_;
-      ++applied;
+    if (id >= next_ && id <= last) {
+      if (end - begin == std::max<std::size_t>(events[begin].frame_size, 1)) {
+        apply(std::span(events).subspan(begin, end - begin), id);
+        ++caught_up_;
+        ++frames.applied;
+      } else {
+        ++frames.short_of_events;
+      }
     }
     begin = end;
   }
-  return applied;
+  return frames;
 }
 
 bool FrameFollower::ticks_explain(std::int64_t tick) const {
@@ -186,13 +191,8 @@ bool FrameFollower::fill_gap(std::int64_t last, std::int64_t waited_ns, bool fin
       // every id it could not fill counts (an upper bound, as for a jump). A frame short of
       // events is lost either way.
       const std::int64_t ids = last - next_ + 1;
-      std::int64_t present = 0;
-      for (std::size_t k = 0; k < log.events.size(); ++k) {
-        const std::int64_t id = log.events[k].frame_id;
-        if (id >= next_ && id <= last && (k == 0 || log.events[k - 1].frame_id != id)) ++present;
-      }
-      const std::int64_t applied = apply_log(log.events, last);
-      diverged_ += log_damage_ > 0 ? ids - applied : present - applied;
+      const LogFrames frames = apply_log(log.events, last);
+      diverged_ += log_damage_ > 0 ? ids - frames.applied : frames.short_of_events;
       log_damage_ = 0;
       ++gaps_;
       next_ = last + 1;

@@ -83,8 +83,11 @@ class FrameFollower {
   // Nothing waits: collisions the ticks counted and no frame brought are a loss too.
   void check_tail(bool final);
   void forget_ticks_to(std::int64_t tick);
-  // Applies the log's complete frames in [next_, last]; returns how many.
-  std::int64_t apply_log(const std::vector<logging::CollisionRecord>& events, std::int64_t last);
+  // The log's frames in [next_, last]: those applied (complete), and those short of events.
+  struct LogFrames {
+    std::int64_t applied = 0, short_of_events = 0;
+  };
+  LogFrames apply_log(const std::vector<logging::CollisionRecord>& events, std::int64_t last);
   bool ticks_explain(std::int64_t tick) const;
   // Frames [next_, last] are not here: from the log, or diverged. False to wait for the log.
   bool fill_gap(std::int64_t last, std::int64_t waited_ns, bool final);
