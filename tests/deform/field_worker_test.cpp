@@ -62,9 +62,9 @@ TEST(FieldWorker, RunsThePartsOnBothThreadsAndWaitsForThem) {
 }
 
 // The count of tasks that found the worker awake: one posted long after the last finds it
-// asleep (it spins 200 us, then sleeps), and of back-to-back tasks that each need both threads
-// (two parts that wait for each other) some find it spinning (under a sanitizer on a shared
-// machine fewer than half did, so no share is asked).
+// asleep (it spins 200 us, then sleeps), and so does every task after a pause. That back-to-back
+// tasks find it spinning is timing (on a loaded machine none did, the worker off its core), so
+// it is shown by deform_bench's worker_awake (0.96 at 100k), not asserted here.
 TEST(FieldWorker, CountsTheTasksThatFoundItAwake) {
   FieldWorker worker;
   std::atomic<int> begun{0};
@@ -83,9 +83,12 @@ TEST(FieldWorker, CountsTheTasksThatFoundItAwake) {
   const std::uint64_t before = worker.tasks_met_awake();
   both();
   EXPECT_EQ(worker.tasks_met_awake(), before) << "a task 20 ms after the last found the worker spinning";
-  for (int k = 0; k < 100; ++k) both();
-  EXPECT_GT(worker.tasks_met_awake(), before);
-  EXPECT_EQ(worker.parts_run(), 102u);
+  for (int k = 0; k < 5; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    both();
+  }
+  EXPECT_EQ(worker.tasks_met_awake(), before) << "a task 5 ms after the last found the worker spinning";
+  EXPECT_EQ(worker.parts_run(), 7u);
 }
 
 // The worker, once in a part, is held there until the caller has run every other part: the
