@@ -21,18 +21,18 @@ namespace {
 
 std::string errno_text(int e) { return std::strerror(e); }
 
-CanConfig checked(const CanConfig& config) {
-  if (config.interface.empty()) throw std::invalid_argument("glove.can.interface: empty");
+}  // namespace
+
+CanConfig checked_can_config(const CanConfig& config, const std::string& section) {
+  if (config.interface.empty()) throw std::invalid_argument(section + ".interface: empty");
   if (config.interface.size() >= IFNAMSIZ)
-    throw std::invalid_argument("glove.can.interface: '" + config.interface + "' is longer than " +
+    throw std::invalid_argument(section + ".interface: '" + config.interface + "' is longer than " +
                                 std::to_string(IFNAMSIZ - 1) + " characters");
   if (config.base_id > kCanMaxExtendedId - kCanIdSpan)
-    throw std::invalid_argument("glove.can.base_id: " + std::to_string(config.base_id) +
-                                " leaves no room for the glove's ids below 0x1FFFFFFF");
+    throw std::invalid_argument(section + ".base_id: " + std::to_string(config.base_id) + " leaves no room for the " +
+                                std::to_string(kCanIdSpan) + " ids after it below 0x1FFFFFFF");
   return config;
 }
-
-}  // namespace
 
 int open_can_socket(const std::string& interface, bool fd, bool error_frames) {
   const int s = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
@@ -71,7 +71,7 @@ int open_can_socket(const std::string& interface, bool fd, bool error_frames) {
 }
 
 CanGloveSource::CanGloveSource(const CanConfig& config, std::size_t queue_capacity)
-    : config_(checked(config)),
+    : config_(checked_can_config(config, "glove.can")),
       queue_(queue_capacity),
       decoders_{CanSampleDecoder(config.base_id, 0, config.fd), CanSampleDecoder(config.base_id, 1, config.fd)} {}
 

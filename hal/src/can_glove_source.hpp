@@ -62,4 +62,10 @@ class CanGloveSource final : public GloveSource {
 /// @throw std::runtime_error as CanGloveSource::start describes.
 int open_can_socket(const std::string& interface, bool fd, bool error_frames);
 
+/// Returns `config` once its interface name fits Linux's and the ids from its base_id stay in
+/// CAN's 29-bit range. `section` names the setting in errors ("glove.can", "haptic.can").
+/// Shared by the CAN source and sink.
+/// @throw std::invalid_argument naming `section`'s field.
+CanConfig checked_can_config(const CanConfig& config, const std::string& section);
+
 }  // namespace sculpt::hal

@@ -21,20 +21,10 @@ namespace {
 constexpr long kWakeNs = 1'000'000;
 constexpr std::int64_t kReopenIntervalNs = 200'000'000;  // how often a vanished interface is looked for
 
-CanConfig checked(const CanConfig& config) {
-  if (config.interface.empty()) throw std::invalid_argument("haptic.can.interface: empty");
-  if (config.interface.size() >= IFNAMSIZ)
-    throw std::invalid_argument("haptic.can.interface: '" + config.interface + "' is too long");
-  if (config.base_id > kCanMaxExtendedId - kCanIdSpan)
-    throw std::invalid_argument("haptic.can.base_id: " + std::to_string(config.base_id) +
-                                " leaves no room for the haptic ids below 0x1FFFFFFF");
-  return config;
-}
-
 }  // namespace
 
 CanHapticSink::CanHapticSink(const CanConfig& config, std::size_t queue_capacity)
-    : config_(checked(config)), queue_(queue_capacity) {}
+    : config_(checked_can_config(config, "haptic.can")), queue_(queue_capacity) {}
 
 CanHapticSink::~CanHapticSink() { stop(); }
 

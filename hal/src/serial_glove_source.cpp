@@ -18,10 +18,6 @@
 namespace sculpt::hal {
 namespace {
 
-// Upper bound on one wait of the I/O thread. stop() wakes it through the eventfd, so this
-// only matters if that wake were lost; it costs a wake-up ten times a second.
-constexpr int kPollTimeoutMs = 100;
-
 void drain_eventfd(int fd) noexcept {
   std::uint64_t value = 0;
   while (::read(fd, &value, sizeof value) > 0) {
@@ -176,11 +172,11 @@ void SerialGloveSource::run() noexcept {
       }
       const auto wait = std::chrono::ceil<std::chrono::milliseconds>(next_attempt - Clock::now());
       pollfd wake{wake_fd_, POLLIN, 0};
-      ::poll(&wake, 1, static_cast<int>(std::clamp<std::int64_t>(wait.count(), 1, kPollTimeoutMs)));
+      ::poll(&wake, 1, static_cast<int>(std::clamp<std::int64_t>(wait.count(), 1, kSerialPollTimeoutMs)));
       continue;
     }
     pollfd fds[2] = {{port_.fd(), POLLIN, 0}, {wake_fd_, POLLIN, 0}};
-    const int ready = ::poll(fds, 2, kPollTimeoutMs);
+    const int ready = ::poll(fds, 2, kSerialPollTimeoutMs);
     if (ready < 0) {
       if (errno == EINTR) continue;
       disconnect();

@@ -17,11 +17,6 @@
 #include <system_error>
 
 namespace sculpt::hal {
-namespace {
-
-constexpr int kPollTimeoutMs = 100;
-
-}  // namespace
 
 SerialHapticSink::SerialHapticSink(const SerialConfig& config, std::size_t queue_capacity, BacklogProbe backlog)
     : config_(config), queue_(queue_capacity == 0 ? 2 : queue_capacity), backlog_(backlog) {
@@ -174,7 +169,7 @@ void SerialHapticSink::run() noexcept {
   auto next_attempt = Clock::now() + interval;
   bool held_back = false;
   while (!stop_requested_.load(std::memory_order_acquire)) {
-    int timeout_ms = held_back ? 1 : kPollTimeoutMs;
+    int timeout_ms = held_back ? 1 : kSerialPollTimeoutMs;
     if (!port_.is_open()) {
       const auto now = Clock::now();
       if (now >= next_attempt) {
@@ -182,7 +177,7 @@ void SerialHapticSink::run() noexcept {
       }
       if (!port_.is_open()) {
         const auto wait = std::chrono::ceil<std::chrono::milliseconds>(next_attempt - Clock::now());
-        timeout_ms = static_cast<int>(std::clamp<std::int64_t>(wait.count(), 1, kPollTimeoutMs));
+        timeout_ms = static_cast<int>(std::clamp<std::int64_t>(wait.count(), 1, kSerialPollTimeoutMs));
       }
     }
     // Events 0 on the device: poll still reports POLLHUP / POLLERR, which is all we want from

@@ -27,10 +27,6 @@
 namespace sculpt::logging {
 namespace {
 
-// Every sculpt_lcm message is fixed-size and well under this (the largest, glove_sample_t, is
-// 386 bytes with its fingerprint), so the thread encodes into one stack buffer.
-constexpr std::size_t kMaxEncodedSize = 1024;
-
 std::size_t index(LogKind kind) noexcept { return static_cast<std::size_t>(kind); }
 
 }  // namespace

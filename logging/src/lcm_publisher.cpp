@@ -7,13 +7,6 @@
 #include <lcm/lcm-cpp.hpp>
 
 namespace sculpt::logging {
-namespace {
-
-// Every sculpt_lcm message is fixed-size and well under this (the largest, glove_sample_t,
-// is 386 bytes with its hash), so the thread encodes into one stack buffer instead of allocating per message.
-constexpr std::size_t kMaxEncodedSize = 1024;
-
-}  // namespace
 
 ChannelCounters LcmPublisher::AtomicChannelCounters::snapshot() const noexcept {
   return {published.load(std::memory_order_relaxed), dropped.load(std::memory_order_relaxed),

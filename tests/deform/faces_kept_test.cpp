@@ -13,6 +13,7 @@
 #include "sculpt/deform/deformer.hpp"
 #include "sculpt/deform/generators.hpp"
 #include "sculpt/deform/model_io.hpp"
+#include "deform/ply_encoding_label.hpp"
 
 namespace sculpt::deform {
 namespace {
@@ -60,7 +61,7 @@ void expect_same_points_and_faces(const PointModel& expected, const PointModel& 
   EXPECT_TRUE(written(actual) == written(expected)) << "points, normals or colours differ";
 }
 
-std::string temp_path(const std::string& file_name) {
+std::string faces_file_path(const std::string& file_name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string unique = std::string("faces_") + info->name() + "_" + file_name;
   for (char& c : unique) c = c == '/' ? '_' : c;
@@ -88,14 +89,7 @@ TEST_P(FacesThroughPly, APointCloudGetsNoFaceElement) {
 INSTANTIATE_TEST_SUITE_P(AllEncodings, FacesThroughPly,
                          ::testing::Values(PlyEncoding::kAscii, PlyEncoding::kBinaryLittleEndian,
                                            PlyEncoding::kBinaryBigEndian),
-                         [](const auto& info) {
-                           switch (info.param) {
-                             case PlyEncoding::kAscii: return std::string("Ascii");
-                             case PlyEncoding::kBinaryLittleEndian: return std::string("LittleEndian");
-                             case PlyEncoding::kBinaryBigEndian: return std::string("BigEndian");
-                           }
-                           return std::string("?");
-                         });
+                         [](const auto& info) { return ply_test::encoding_label(info.param); });
 
 TEST(FacesThroughOff, EveryVariantKeepsPointsFacesNormalsAndColours) {
   for (const bool normals : {false, true}) {
@@ -122,7 +116,7 @@ TEST(FacesThroughOff, PolygonsReadAreWrittenAsTheirFannedTriangles) {
 TEST(FacesThroughFiles, WriteModelChoosesOffByExtensionAndKeepsFaces) {
   const PointModel mesh = grid_mesh(true, false);
   for (const char* name : {"grid.off", "GRID.OFF", "grid.ply"}) {
-    const std::string path = temp_path(name);
+    const std::string path = faces_file_path(name);
     write_model(path, mesh);
     expect_same_points_and_faces(mesh, read_model(path));
     std::filesystem::remove(path);

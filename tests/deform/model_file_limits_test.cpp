@@ -19,7 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_path(const std::string& file_name) {
+std::string limits_file_path(const std::string& file_name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   return ::testing::TempDir() + "limits_" + info->name() + "_" + file_name;
 }
@@ -49,7 +49,7 @@ std::string le_float(float v) {
 }
 
 TEST(ModelFileKind, ADirectoryIsRefused) {
-  const std::string path = temp_path("folder.ply");
+  const std::string path = limits_file_path("folder.ply");
   fs::create_directories(path);
   expect_message([&] { read_model(path); }, path + ": cannot read: a directory, not a regular file");
   fs::remove_all(path);
@@ -57,7 +57,7 @@ TEST(ModelFileKind, ADirectoryIsRefused) {
 
 // A FIFO would block the open until a writer came, then read for as long as it wrote.
 TEST(ModelFileKind, AFifoIsRefusedWithoutWaitingForAWriter) {
-  const std::string path = temp_path("pipe.off");
+  const std::string path = limits_file_path("pipe.off");
   fs::remove(path);
   ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
   expect_message([&] { read_model(path); }, path + ": cannot read: a FIFO, not a regular file");
@@ -67,7 +67,7 @@ TEST(ModelFileKind, AFifoIsRefusedWithoutWaitingForAWriter) {
 // /dev/zero never ends: read, it fills memory. A .ply name must not get it past the check.
 TEST(ModelFileKind, ADeviceIsRefusedEvenBehindAModelName) {
   expect_message([] { read_ply("/dev/zero"); }, "/dev/zero: cannot read: a character device, not a regular file");
-  const std::string link = temp_path("zero.ply");
+  const std::string link = limits_file_path("zero.ply");
   fs::remove(link);
   fs::create_symlink("/dev/zero", link);
   expect_message([&] { read_model(link); }, link + ": cannot read: a character device, not a regular file");
@@ -75,7 +75,7 @@ TEST(ModelFileKind, ADeviceIsRefusedEvenBehindAModelName) {
 }
 
 TEST(ModelFileKind, AMissingFileSaysSo) {
-  const std::string path = temp_path("absent.xyz");
+  const std::string path = limits_file_path("absent.xyz");
   expect_message([&] { read_model(path); }, path + ": cannot open (No such file or directory)");
 }
 

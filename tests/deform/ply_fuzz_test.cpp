@@ -17,10 +17,13 @@
 #include <typeinfo>
 
 #include "sculpt/deform/model_io.hpp"
+#include "deform/ply_encoding_label.hpp"
 #include "sculpt/deform/normal_check.hpp"
 
 namespace sculpt::deform {
 namespace {
+
+using ply_test::encoding_label;
 
 // Appends one value in the file's encoding (ascii text or binary bytes of `type`).
 class BodyWriter {
@@ -147,15 +150,6 @@ void read_one(const std::string& bytes, Outcome& outcome, const std::string& con
       ADD_FAILURE() << context << ": " << typeid(e).name() << ": " << e.what();
     }
   }
-}
-
-std::string encoding_label(PlyEncoding e) {
-  switch (e) {
-    case PlyEncoding::kAscii: return "Ascii";
-    case PlyEncoding::kBinaryLittleEndian: return "LittleEndian";
-    case PlyEncoding::kBinaryBigEndian: return "BigEndian";
-  }
-  return "?";
 }
 
 class PlyFuzz : public ::testing::TestWithParam<PlyEncoding> {};

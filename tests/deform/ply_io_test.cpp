@@ -19,21 +19,15 @@
 #include <vector>
 
 #include "sculpt/deform/model_io.hpp"
+#include "deform/ply_encoding_label.hpp"
 
 namespace sculpt::deform {
 namespace {
 
+using ply_test::encoding_label;
+
 constexpr PlyEncoding kAllEncodings[] = {PlyEncoding::kAscii, PlyEncoding::kBinaryLittleEndian,
                                          PlyEncoding::kBinaryBigEndian};
-
-std::string encoding_label(PlyEncoding e) {
-  switch (e) {
-    case PlyEncoding::kAscii: return "Ascii";
-    case PlyEncoding::kBinaryLittleEndian: return "LittleEndian";
-    case PlyEncoding::kBinaryBigEndian: return "BigEndian";
-  }
-  return "?";
-}
 
 const char* format_line(PlyEncoding e) {
   switch (e) {

@@ -116,7 +116,7 @@ std::string start_within_3_s(Device& device, LoopbackListener& server) {
 
 // support/eventually.hpp with these tests' patience: up to 10 s, as they wait on looks a second
 // apart and a loaded machine is slow at times.
-inline bool eventually(const std::function<bool()>& done) {
+inline bool eventually_within_10s(const std::function<bool()>& done) {
   return test::eventually(done, std::chrono::seconds(10), std::chrono::milliseconds(5));
 }
 

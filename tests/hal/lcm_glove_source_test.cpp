@@ -31,7 +31,7 @@ namespace sculpt::hal {
 namespace {
 
 using testing_support::accept_client;
-using testing_support::eventually;
+using testing_support::eventually_within_10s;
 using testing_support::listen_on;
 using testing_support::LoopbackListener;
 using testing_support::send_word;
@@ -49,7 +49,7 @@ GloveSample make_sample(std::uint8_t hand, std::uint32_t sequence) {
   return s;
 }
 
-std::vector<std::uint8_t> encode(const GloveSample& s) {
+std::vector<std::uint8_t> encode_lcm(const GloveSample& s) {
   sculpt_lcm::glove_sample_t m{};
   hal::to_lcm(s, 0, m);
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
@@ -61,7 +61,7 @@ void publish(lcm::LCM& lcm, const std::string& channel, const std::vector<std::u
   ASSERT_EQ(lcm.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size())), 0);
 }
 
-void publish(lcm::LCM& lcm, const GloveSample& s) { publish(lcm, "SCULPT_GLOVE", encode(s)); }
+void publish(lcm::LCM& lcm, const GloveSample& s) { publish(lcm, "SCULPT_GLOVE", encode_lcm(s)); }
 
 /// Waits until the source has dealt with `count` messages (queued, overflowed or refused).
 void wait_handled(const LcmGloveSource& source, std::uint64_t count) {
@@ -132,7 +132,7 @@ TEST(LcmGloveSource, CorruptMessagesAreFramingErrorsAndTheNextGoodSampleArrives)
   LcmGloveSource source(lcm, LcmConfig{}, 64);
   source.start();
 
-  const auto good = encode(make_sample(0, 1));
+  const auto good = encode_lcm(make_sample(0, 1));
   publish(lcm, "SCULPT_GLOVE", std::vector<std::uint8_t>{0xde, 0xad, 0xbe, 0xef, 0x00, 0x01});  // garbage
   publish(lcm, "SCULPT_GLOVE", std::vector<std::uint8_t>(good.begin(), good.begin() + 100));    // truncated
   auto trailing = good;
@@ -227,7 +227,7 @@ TEST(LcmGloveSource, ListensOnTheConfiguredChannelOnly) {
   LcmGloveSource source(lcm, config, 16);
   source.start();
   publish(lcm, make_sample(0, 1));  // default channel: not ours
-  publish(lcm, "STATION_B_GLOVE", encode(make_sample(0, 2)));
+  publish(lcm, "STATION_B_GLOVE", encode_lcm(make_sample(0, 2)));
   wait_handled(source, 1);
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   const auto got = drain(source);
@@ -290,7 +290,7 @@ TEST(LcmGloveSource, ATcpqServerMissingOrGoneIsAnErrorNotAnAbort) {
   source.start();
   serve.join();
   server.close();
-  eventually([&] { return source.counters().disconnects > 0; });
+  eventually_within_10s([&] { return source.counters().disconnects > 0; });
   EXPECT_EQ(source.counters().disconnects, 1u);
   // Still running, through several back-offs, on an instance with no socket.
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -321,7 +321,7 @@ TEST_P(LcmGloveSourceTcpqHost, ATcpqServerThatComesBackIsListenedToAgain) {
   source.start();
   hang_up.join();
   first.close();  // gone: the looks are refused
-  ASSERT_TRUE(eventually([&] { return source.counters().disconnects == 1; }));
+  ASSERT_TRUE(eventually_within_10s([&] { return source.counters().disconnects == 1; }));
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // a look or two finds nothing
   EXPECT_EQ(source.state(), SourceState::kDisconnected);
   EXPECT_EQ(source.counters().reconnects, 0u);
@@ -339,7 +339,7 @@ TEST_P(LcmGloveSourceTcpqHost, ATcpqServerThatComesBackIsListenedToAgain) {
     for (int client = ::accept(back, nullptr, nullptr); client >= 0; client = ::accept(back, nullptr, nullptr)) {
       clients.push_back(client);
       if (!serve_handshake(client) || sent) continue;
-      const std::vector<std::uint8_t> data = encode(make_sample(0, 7));
+      const std::vector<std::uint8_t> data = encode_lcm(make_sample(0, 7));
       const std::string channel = config.glove_channel;
       send_word(client, 1);  // a published message: type, channel, payload
       send_word(client, static_cast<std::uint32_t>(channel.size()));
@@ -352,10 +352,10 @@ TEST_P(LcmGloveSourceTcpqHost, ATcpqServerThatComesBackIsListenedToAgain) {
   });
   std::array<GloveSample, 4> out{};
   std::size_t received = 0;
-  EXPECT_TRUE(eventually([&] { return (received += source.poll(out)) > 0; }));
+  EXPECT_TRUE(eventually_within_10s([&] { return (received += source.poll(out)) > 0; }));
   EXPECT_EQ(received, 1u);
   EXPECT_EQ(out[0].sequence, 7u);
-  EXPECT_TRUE(eventually([&] { return source.state() == SourceState::kConnected; }));
+  EXPECT_TRUE(eventually_within_10s([&] { return source.state() == SourceState::kConnected; }));
   EXPECT_EQ(source.counters().reconnects, 1u);
   source.stop();
   ::shutdown(back, SHUT_RDWR);  // wakes the accept
@@ -384,7 +384,7 @@ TEST(LcmGloveSource, StopReturnsWhileTheTcpqServerDoesNotAnswer) {
   LcmGloveSource source(config, 8);
   source.start();
   hang_up.join();
-  eventually([&] { return source.counters().disconnects > 0; });
+  eventually_within_10s([&] { return source.counters().disconnects > 0; });
   ASSERT_EQ(source.counters().disconnects, 1u);
   std::this_thread::sleep_for(std::chrono::milliseconds(1200));  // the source's looks get no answer
   EXPECT_FALSE(tcpq_server_answers(config.url, 200));
@@ -397,7 +397,7 @@ TEST(LcmGloveSource, StopReturnsWhileTheTcpqServerDoesNotAnswer) {
   stopping.wait();
   EXPECT_EQ(source.state(), SourceState::kStopped);
   // The instance was let go on a thread of its own, which the refusal now ends.
-  EXPECT_TRUE(eventually([] { return lcm_destroys_in_flight() == 0; }));
+  EXPECT_TRUE(eventually_within_10s([] { return lcm_destroys_in_flight() == 0; }));
 }
 
 // start() looks before liblcm connects: a server that queues the connection and never answers
@@ -444,7 +444,7 @@ TEST(LcmGloveSource, UdpmLoopbackDeliversWhatWasSent) {
   constexpr std::uint32_t kSent = 30;
   std::vector<GloveSample> got;
   for (std::uint32_t i = 0; i < kSent; ++i) {
-    const auto bytes = encode(make_sample(1, i));
+    const auto bytes = encode_lcm(make_sample(1, i));
     if (sender.publish("SCULPT_GLOVE", bytes.data(), static_cast<unsigned>(bytes.size())) != 0) {
       GTEST_SKIP() << "publish on " << config.url << " failed (no multicast route?)";
     }

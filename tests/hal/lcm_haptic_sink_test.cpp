@@ -219,7 +219,7 @@ TEST_P(LcmHapticSinkTcpqHost, ATcpqServerThatComesBackIsPublishedToAgain) {
   LcmHapticSink sink(config, 64);
   sink.start();
   std::uint32_t tick = 1;
-  testing_support::eventually([&] {
+  testing_support::eventually_within_10s([&] {
     send_spaced(sink, tick++, 1, std::chrono::milliseconds(50));
     return clients_heard.load() >= 2;
   });

@@ -31,6 +31,7 @@
 #include "serial_glove_source.hpp"
 #include "sculpt/hal/frame_codec.hpp"
 #include "serial_haptic_sink.hpp"
+#include "support/file_contents.hpp"
 
 namespace sculpt::hal {
 namespace {
@@ -77,12 +78,9 @@ class Relay {
 
 using test::eventually;
 
-std::string file_text(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using test::file_contents;
 
-SerialConfig config_for(const std::string& device) {
+SerialConfig writer_config_for(const std::string& device) {
   SerialConfig c;
   c.device = device;
   c.reconnect_interval_ms = 20.0;
@@ -133,8 +131,8 @@ TEST(SerialFrameWriter, EndToEndThroughTwoPtyPairsAndARelay) {
   Pty host_side;   // the station's device
   Relay wire(glove_side.master(), host_side.master());
 
-  SerialGloveSource source(config_for(host_side.slave_path()), 1024);
-  SerialHapticSink sink(config_for(host_side.slave_path()), 64);
+  SerialGloveSource source(writer_config_for(host_side.slave_path()), 1024);
+  SerialHapticSink sink(writer_config_for(host_side.slave_path()), 64);
   source.start();
   sink.start();
   ASSERT_EQ(source.state(), SourceState::kConnected);
@@ -178,7 +176,7 @@ TEST(SerialFrameWriter, SamplesArriveIntactAndInOrder) {
   Pty glove_side;
   Pty host_side;
   Relay wire(glove_side.master(), host_side.master());
-  SerialGloveSource source(config_for(host_side.slave_path()), 1024);
+  SerialGloveSource source(writer_config_for(host_side.slave_path()), 1024);
   source.start();
   SerialFrameWriter writer(glove_side.slave_path());
   constexpr std::uint32_t kSamples = 120;
@@ -249,7 +247,7 @@ TEST(SerialHapticSink, DropsCommandsWhileTheDeviceIsAbsentAndWritesOnceItIsBack)
   const std::filesystem::path dir = pattern;
   const std::string link = (dir / "glove").string();
 
-  SerialHapticSink sink(config_for(link), 16);
+  SerialHapticSink sink(writer_config_for(link), 16);
   sink.start();
   EXPECT_FALSE(sink.connected());
   for (std::uint32_t t = 0; t < 5; ++t) EXPECT_TRUE(sink.send(command(t)));
@@ -298,7 +296,7 @@ TEST(SerialHapticSink, StartRefusesAPathThatIsNotADevice) {
   const std::filesystem::path dir = pattern;
   const std::string file = (dir / "plain.txt").string();
   std::ofstream(file) << "not a tty";
-  SerialHapticSink sink(config_for(file), 16);
+  SerialHapticSink sink(writer_config_for(file), 16);
   try {
     sink.start();
     ADD_FAILURE() << "start() accepted a regular file";
@@ -306,14 +304,14 @@ TEST(SerialHapticSink, StartRefusesAPathThatIsNotADevice) {
     EXPECT_EQ(std::string(e.what()),
               "serial haptic sink " + file + ": exists but is not a character device (a serial port or pty)");
   }
-  EXPECT_EQ(file_text(file), "not a tty") << "nothing was written to it";
+  EXPECT_EQ(file_contents(file), "not a tty") << "nothing was written to it";
   std::filesystem::remove_all(dir);
 }
 
 TEST(SerialHapticSink, CountsAFullQueueAsDropped) {
   // Not started: nothing drains the queue, so the third command does not fit (capacity 2).
   Pty pty;
-  SerialHapticSink sink(config_for(pty.slave_path()), 2);
+  SerialHapticSink sink(writer_config_for(pty.slave_path()), 2);
   EXPECT_TRUE(sink.send(command(0)));
   EXPECT_TRUE(sink.send(command(1)));
   EXPECT_FALSE(sink.send(command(2)));
@@ -325,7 +323,7 @@ TEST(SerialHapticSink, ASlowLineCarriesTheNewestCommandAndNeverABacklog) {
   // a line slower than the loop. The loop goes on sending at about 1 kHz; when the line drains,
   // what arrives is in tick order, far fewer frames than commands, and ends with the newest.
   Pty pty;
-  SerialHapticSink sink(config_for(pty.slave_path()), 256);
+  SerialHapticSink sink(writer_config_for(pty.slave_path()), 256);
   sink.start();
   ASSERT_TRUE(sink.connected());
   constexpr std::uint32_t kCommands = 1500;
@@ -408,7 +406,7 @@ TEST(SerialHapticSink, KeepsTheLinesBacklogToAFrameSoCommandsArriveFresh) {
   std::array<std::uint8_t, kMaxFrameBytes> scratch{};
   line_frame_bytes = encode_haptic_frame(command(0), 0, 0, scratch);
   line_bytes_read = 0;
-  SerialHapticSink sink(config_for(pty.slave_path()), 256, &unread_on_line);
+  SerialHapticSink sink(writer_config_for(pty.slave_path()), 256, &unread_on_line);
   line_sink = &sink;
   sink.start();
   ASSERT_TRUE(sink.connected());

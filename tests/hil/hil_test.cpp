@@ -31,6 +31,7 @@
 #include "support/bundled_scene.hpp"
 #include "sculpt/deform/model_io.hpp"
 #include "sculpt/hal/frame_codec.hpp"
+#include "support/file_contents.hpp"
 
 namespace sculpt {
 namespace {
@@ -40,10 +41,7 @@ using Clock = std::chrono::steady_clock;
 
 const std::string kSculpt = SCULPT_BINARY;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using test::file_contents;
 
 // A copy of the bundled one-finger press for a test, outputs into `dir` and `extra` appended.
 // Built without LCM the station has no event log: a scene asking for one is refused (tested by
@@ -142,7 +140,7 @@ TEST(HardwareInTheLoop, SerialThroughAFaultyLineKeepsTheStationRunning) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   ASSERT_TRUE(fs::exists(session_log) && fs::file_size(session_log) > 0)
-      << "the station did not start in 60 s: " << read_file((dir / "run.log").string());
+      << "the station did not start in 60 s: " << file_contents((dir / "run.log").string());
 #else
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
 #endif
@@ -204,14 +202,14 @@ TEST(HardwareInTheLoop, SerialThroughAFaultyLineKeepsTheStationRunning) {
     }
   });
 
-  EXPECT_EQ(glove.wait(std::chrono::seconds(20)), 0) << read_file((dir / "glove.log").string());
-  EXPECT_EQ(station.wait(std::chrono::seconds(20)), 0) << read_file((dir / "run.log").string());
+  EXPECT_EQ(glove.wait(std::chrono::seconds(20)), 0) << file_contents((dir / "glove.log").string());
+  EXPECT_EQ(station.wait(std::chrono::seconds(20)), 0) << file_contents((dir / "run.log").string());
   done.store(true);
   relay.join();
   glove_side.close_pair();
   station_side.close_pair();
 
-  const nlohmann::json r = nlohmann::json::parse(read_file(json));
+  const nlohmann::json r = nlohmann::json::parse(file_contents(json));
   std::printf("[ hil ] serial: %s\n", r.dump().c_str());
   // The loop never stopped: about 6 s at 1 kHz (only gross failure is asserted here).
   EXPECT_GT(r["ticks"].get<double>(), 3000.0);
@@ -247,14 +245,14 @@ TEST(HardwareInTheLoop, LcmMulticastOnLoopback) {
                   (dir / "run.log").string());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // a late subscriber misses messages
   Process glove({kSculpt, "glove-sim", scene, "--lcm", url}, (dir / "glove.log").string());
-  EXPECT_EQ(glove.wait(std::chrono::seconds(20)), 0) << read_file((dir / "glove.log").string());
+  EXPECT_EQ(glove.wait(std::chrono::seconds(20)), 0) << file_contents((dir / "glove.log").string());
   const int code = station.wait(std::chrono::seconds(20));
-  const std::string log = read_file((dir / "run.log").string());
+  const std::string log = file_contents((dir / "run.log").string());
   if (code != 0 && log.find("lcm") != std::string::npos && log.find("cannot") != std::string::npos) {
     GTEST_SKIP() << "multicast LCM is not available here: " << log;
   }
   ASSERT_EQ(code, 0) << log;
-  const nlohmann::json r = nlohmann::json::parse(read_file(json));
+  const nlohmann::json r = nlohmann::json::parse(file_contents(json));
   std::printf("[ hil ] lcm: %s\n", r.dump().c_str());
   EXPECT_GT(r["glove_samples"].get<int>(), 100);
   EXPECT_GT(r["collisions"].get<int>(), 0);
@@ -271,8 +269,9 @@ TEST(HardwareInTheLoop, SigtermEndsTheRunCleanly) {
   ASSERT_TRUE(station.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   station.signal(SIGTERM);
-  EXPECT_EQ(station.wait(std::chrono::seconds(20)), 0) << "not a clean exit: " << read_file((dir / "run.log").string());
-  const nlohmann::json r = nlohmann::json::parse(read_file(json));
+  EXPECT_EQ(station.wait(std::chrono::seconds(20)), 0)
+      << "not a clean exit: " << file_contents((dir / "run.log").string());
+  const nlohmann::json r = nlohmann::json::parse(file_contents(json));
   EXPECT_GT(r["ticks"].get<int>(), 500);
   EXPECT_EQ(deform::read_model(out).size(), 3203u);
   fs::remove_all(dir);
@@ -362,8 +361,8 @@ HapticCapture capture_serial_haptics(const fs::path& dir, double line_bytes_per_
   reader.join();
   line.close_pair();
   c.decoder = decoder.counters();
-  c.run_log = read_file((dir / "run.log").string());
-  if (c.exit_code == 0) c.haptic = nlohmann::json::parse(read_file((dir / "sphere-press.json").string()))["haptic"];
+  c.run_log = file_contents((dir / "run.log").string());
+  if (c.exit_code == 0) c.haptic = nlohmann::json::parse(file_contents((dir / "sphere-press.json").string()))["haptic"];
   return c;
 }
 

@@ -24,16 +24,14 @@
 #include "sculpt/logging/channels.hpp"
 #include "sculpt/logging/event_log_reader.hpp"
 #include "sculpt/logging/records.hpp"
+#include "support/file_contents.hpp"
 
 namespace sculpt {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using test::file_contents;
 
 int sculpt(const std::vector<std::string>& args, const fs::path& output) {
   std::vector<std::string> argv = {SCULPT_BINARY};
@@ -115,15 +113,15 @@ TEST_F(CrashRecovery, AReRunKilledAtRandomMomentsRecoversTheCompletedRunUpToItsL
   const fs::path scene = slide_scene(dir_, model);
   // The glove log the deterministic re-runs are fed from.
   ASSERT_EQ(sculpt({"run", scene.string(), "--duration", "3.2", "--quiet"}, dir_ / "record.txt"), 0)
-      << slurp(dir_ / "record.txt");
+      << file_contents(dir_ / "record.txt");
   const std::vector<std::string> rerun = {
       "replay", (dir_ / "glove.lcmlog").string(), "--model", model.string(), "--scene", scene.string(), "--mode",
       "rerun"};
   const fs::path complete = dir_ / "complete.lcmlog";
   std::vector<std::string> args = rerun;
   args.insert(args.end(), {"--record", complete.string(), "--json", (dir_ / "complete.json").string()});
-  ASSERT_EQ(sculpt(args, dir_ / "complete.txt"), 0) << slurp(dir_ / "complete.txt");
-  const nlohmann::json done = nlohmann::json::parse(slurp(dir_ / "complete.json"));
+  ASSERT_EQ(sculpt(args, dir_ / "complete.txt"), 0) << file_contents(dir_ / "complete.txt");
+  const nlohmann::json done = nlohmann::json::parse(file_contents(dir_ / "complete.json"));
   ASSERT_EQ(done["rerun"]["record"]["dropped"].get<int>(), 0);
   ASSERT_GT(done["rerun"]["record"]["collisions"].get<int>(), 20);
   const std::uintmax_t full_size = size_of(complete);
@@ -153,17 +151,18 @@ TEST_F(CrashRecovery, AReRunKilledAtRandomMomentsRecoversTheCompletedRunUpToItsL
                       report.string()},
                      dir_ / "recover.txt"),
               0)
-        << slurp(dir_ / "recover.txt");
-    const nlohmann::json r = nlohmann::json::parse(slurp(report));
+        << file_contents(dir_ / "recover.txt");
+    const nlohmann::json r = nlohmann::json::parse(file_contents(report));
     EXPECT_EQ(r["transfer"]["events"].get<std::size_t>(), truth.events) << "kill " << k;
     const fs::path until = dir_ / ("until" + std::to_string(k) + ".ply");
     ASSERT_EQ(sculpt({"replay", complete.string(), "--model", model.string(), "--until-frame",
                       std::to_string(truth.last_frame), "--out", until.string()},
                      dir_ / "until.txt"),
               0)
-        << slurp(dir_ / "until.txt");
-    EXPECT_TRUE(slurp(recovered) == slurp(until)) << "kill " << k << " at " << size_of(cut) << " of " << full_size
-                                                  << " bytes, last whole frame " << truth.last_frame;
+        << file_contents(dir_ / "until.txt");
+    EXPECT_TRUE(file_contents(recovered) == file_contents(until))
+        << "kill " << k << " at " << size_of(cut) << " of " << full_size << " bytes, last whole frame "
+        << truth.last_frame;
     ++last_frames[truth.last_frame];
     std::printf("[ kill ] %d: log cut at %ju of %ju bytes, last whole frame %lld, %zu events\n", k, size_of(cut),
                 full_size, static_cast<long long>(truth.last_frame), truth.events);
@@ -173,7 +172,7 @@ TEST_F(CrashRecovery, AReRunKilledAtRandomMomentsRecoversTheCompletedRunUpToItsL
 }
 
 TEST_F(CrashRecovery, ARealTimeRunKilledRecoversAFiniteModelHoldingEveryCompleteCollision) {
-  std::string text = slurp(fs::path(SCULPT_SOURCE_DIR) / "scenes" / "sphere-squeeze.toml");
+  std::string text = file_contents(fs::path(SCULPT_SOURCE_DIR) / "scenes" / "sphere-squeeze.toml");
   for (const auto& [from, to] :
        {std::pair<std::string, std::string>{"../data/", std::string(SCULPT_SOURCE_DIR) + "/data/"},
         {"../out/", dir_.string() + "/"}}) {
@@ -199,7 +198,7 @@ TEST_F(CrashRecovery, ARealTimeRunKilledRecoversAFiniteModelHoldingEveryComplete
   }
   std::this_thread::sleep_for(delay);
   run.signal(SIGKILL);
-  ASSERT_EQ(run.wait(), -1) << "the run was not killed: " << slurp(dir_ / "run.txt");
+  ASSERT_EQ(run.wait(), -1) << "the run was not killed: " << file_contents(dir_ / "run.txt");
 
   const WholeFrames truth = whole_frames_in(log);
   ASSERT_GT(truth.events, 0u) << "no collision reached the disk before the kill";
@@ -208,8 +207,8 @@ TEST_F(CrashRecovery, ARealTimeRunKilledRecoversAFiniteModelHoldingEveryComplete
                     "--out", recovered.string(), "--json", (dir_ / "recovered.json").string()},
                    dir_ / "recover.txt"),
             0)
-      << slurp(dir_ / "recover.txt");
-  const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "recovered.json"));
+      << file_contents(dir_ / "recover.txt");
+  const nlohmann::json r = nlohmann::json::parse(file_contents(dir_ / "recovered.json"));
   EXPECT_EQ(r["transfer"]["events"].get<std::size_t>(), truth.events);
   EXPECT_EQ(r["model_match"], "recording");
   const deform::PointModel model = deform::read_model(recovered.string());

@@ -31,16 +31,14 @@
 #include "sculpt_lcm/glove_sample_t.hpp"
 #include "sculpt_lcm/haptic_command_t.hpp"
 #include "sculpt_lcm/tick_stats_t.hpp"
+#include "support/file_contents.hpp"
 
 namespace sculpt {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using test::file_contents;
 
 std::map<std::string, std::size_t> count_channels(const fs::path& path) {
   std::map<std::string, std::size_t> counts;
@@ -99,12 +97,12 @@ TEST_F(EventLogHil, EveryCollisionIsInTheDurableLogAndOnTheLiveChannel) {
   ASSERT_TRUE(logger.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(700));  // a late subscriber misses messages
   test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "5", "--quiet"}, dir_ / "run.txt");
-  ASSERT_EQ(run.wait(), 0) << slurp(dir_ / "run.txt");
+  ASSERT_EQ(run.wait(), 0) << file_contents(dir_ / "run.txt");
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   logger.signal(SIGINT);
   logger.wait();
 
-  const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "sphere-squeeze.json"));
+  const nlohmann::json r = nlohmann::json::parse(file_contents(dir_ / "sphere-squeeze.json"));
   const std::size_t collisions = r["collisions"].get<std::size_t>();
   ASSERT_GT(collisions, 0u);
   const auto durable = count_channels(dir_ / "sphere-squeeze.lcmlog");
@@ -145,8 +143,8 @@ TEST_F(EventLogHil, AMinuteOfFiveFingersAtOneKilohertzLosesNothing) {
   test::ChildProcess run(
       {SCULPT_BINARY, "run", scene.string(), "--duration", std::to_string(kLongRunSeconds), "--quiet"},
       dir_ / "run.txt");
-  ASSERT_EQ(run.wait(std::chrono::seconds(180)), 0) << slurp(dir_ / "run.txt");
-  const nlohmann::json r = nlohmann::json::parse(slurp(dir_ / "sphere-five.json"));
+  ASSERT_EQ(run.wait(std::chrono::seconds(180)), 0) << file_contents(dir_ / "run.txt");
+  const nlohmann::json r = nlohmann::json::parse(file_contents(dir_ / "sphere-five.json"));
   const auto& log = r["recording"]["log"];
   std::printf("[ log ] %d s: %s\n", kLongRunSeconds, r["recording"].dump().c_str());
   EXPECT_EQ(log["dropped"].get<int>(), 0);
@@ -162,8 +160,8 @@ TEST_F(EventLogHil, AMinuteOfFiveFingersAtOneKilohertzLosesNothing) {
 TEST_F(EventLogHil, StockLogplayerDrivesTheStationThroughItsLcmBackend) {
   const fs::path scene = test::copy_bundled_scene(dir_, "sphere-press");
   test::ChildProcess record({SCULPT_BINARY, "run", scene.string(), "--duration", "4", "--quiet"}, dir_ / "record.txt");
-  ASSERT_EQ(record.wait(), 0) << slurp(dir_ / "record.txt");
-  const nlohmann::json recorded = nlohmann::json::parse(slurp(dir_ / "sphere-press.json"));
+  ASSERT_EQ(record.wait(), 0) << file_contents(dir_ / "record.txt");
+  const nlohmann::json recorded = nlohmann::json::parse(file_contents(dir_ / "sphere-press.json"));
   // The playback run writes its own log at the scene's path: play the recording from elsewhere.
   const fs::path own_log = dir_ / "sphere-press.lcmlog";
   fs::rename(own_log, dir_ / "recorded.lcmlog");
@@ -179,13 +177,13 @@ TEST_F(EventLogHil, StockLogplayerDrivesTheStationThroughItsLcmBackend) {
   while (!has_tick(own_log) && std::chrono::steady_clock::now() < give_up) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  ASSERT_TRUE(has_tick(own_log)) << "the station did not start in 60 s: " << slurp(dir_ / "run.txt");
+  ASSERT_TRUE(has_tick(own_log)) << "the station did not start in 60 s: " << file_contents(dir_ / "run.txt");
   test::ChildProcess player({"lcm-logplayer", "--lcm-url=" + url, (dir_ / "recorded.lcmlog").string()},
                             dir_ / "player.txt");
   ASSERT_TRUE(player.started());
-  EXPECT_EQ(player.wait(), 0) << slurp(dir_ / "player.txt");
-  ASSERT_EQ(run.wait(), 0) << slurp(dir_ / "run.txt");
-  const nlohmann::json played = nlohmann::json::parse(slurp(dir_ / "played.json"));
+  EXPECT_EQ(player.wait(), 0) << file_contents(dir_ / "player.txt");
+  ASSERT_EQ(run.wait(), 0) << file_contents(dir_ / "run.txt");
+  const nlohmann::json played = nlohmann::json::parse(file_contents(dir_ / "played.json"));
   std::printf("[ log ] recorded %d samples and %d collisions; played back: %d samples, %d collisions\n",
               recorded["samples_taken"].get<int>(), recorded["collisions"].get<int>(),
               played["glove_samples"].get<int>(), played["collisions"].get<int>());
@@ -210,7 +208,7 @@ TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) 
   ASSERT_TRUE(logger.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(700));  // a late subscriber misses messages
   test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "3.5", "--quiet"}, dir_ / "run.txt");
-  ASSERT_EQ(run.wait(), 0) << slurp(dir_ / "run.txt");
+  ASSERT_EQ(run.wait(), 0) << file_contents(dir_ / "run.txt");
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   logger.signal(SIGINT);
   logger.wait();
@@ -254,7 +252,7 @@ TEST_F(EventLogHil, StockLoggerCapturesABoundedHapticCommandEveryTickOfTheHold) 
   }
   EXPECT_GE(best, 500u);
   // The station's own account: it published at least what the logger heard (UDP may drop).
-  const nlohmann::json summary = nlohmann::json::parse(slurp(dir_ / "sphere-press.json"));
+  const nlohmann::json summary = nlohmann::json::parse(file_contents(dir_ / "sphere-press.json"));
   EXPECT_EQ(summary["haptic"]["sink"], "lcm");
   EXPECT_GE(summary["haptic"]["delivered"].get<std::size_t>(), commands.size());
   EXPECT_EQ(summary["haptic"]["dropped"].get<std::size_t>(), 0u);
@@ -281,7 +279,7 @@ TEST_F(EventLogHil, RecordedFieldsMeanWhatTheDocsSay) {
   };
   const std::int64_t start = wall_us();
   test::ChildProcess run({SCULPT_BINARY, "run", scene.string(), "--duration", "3.5", "--quiet"}, dir_ / "run.txt");
-  ASSERT_EQ(run.wait(), 0) << slurp(dir_ / "run.txt");
+  ASSERT_EQ(run.wait(), 0) << file_contents(dir_ / "run.txt");
   const std::int64_t end = wall_us();
 
   std::set<std::int64_t> ticks;

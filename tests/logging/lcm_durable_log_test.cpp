@@ -31,20 +31,18 @@
 #include "sculpt_lcm/glove_sample_t.hpp"
 #include "sculpt_lcm/tick_stats_t.hpp"
 #include "support/scratch_dir.hpp"
+#include "support/file_contents.hpp"
 
 namespace sculpt::logging {
 namespace {
 
 // This process's folder, removed when it exits.
-std::string temp_path(const std::string& name) {
+std::string durable_log_path(const std::string& name) {
   static const test::ScratchDir kScratch("sculpt_durable_test_");
   return (kScratch.path() / name).string();
 }
 
-std::string file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using test::file_contents;
 
 // The events of `path` as the readers of a whole log see them: checked, the checks consumed
 // (event_check.hpp). Any damage, and any event that fails its check, fails the test.
@@ -201,7 +199,7 @@ Session record_session(DurableLog& log, std::int64_t ticks, std::int64_t base_ut
 }
 
 TEST(DurableLog, WritesEveryRecordInOrderAndRoundTripsCollisions) {
-  const std::string path = temp_path("session/run.lcmlog");  // the folder does not exist yet
+  const std::string path = durable_log_path("session/run.lcmlog");  // the folder does not exist yet
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());
   DurableLogConfig config;
   config.path = path;
@@ -284,7 +282,7 @@ TEST(DurableLog, WritesEveryRecordInOrderAndRoundTripsCollisions) {
 
 TEST(DurableLog, FullQueueIsACountedDropAndStopWritesWhatWasQueued) {
   DurableLogConfig config;
-  config.path = temp_path("full.lcmlog");
+  config.path = durable_log_path("full.lcmlog");
   config.queue_capacity = 4;
   DurableLog log(config);  // not started: nothing drains the queue
   TickRecord tick;
@@ -315,7 +313,7 @@ TEST(DurableLog, FullQueueIsACountedDropAndStopWritesWhatWasQueued) {
 
 TEST(DurableLog, FlushNowMakesRecordsReadableWhileTheLogIsOpen) {
   DurableLogConfig config;
-  config.path = temp_path("flush.lcmlog");
+  config.path = durable_log_path("flush.lcmlog");
   config.flush_interval = std::chrono::hours(1);  // only flush_now flushes
   DurableLog log(config);
   log.start();
@@ -335,7 +333,7 @@ TEST(DurableLog, FlushNowMakesRecordsReadableWhileTheLogIsOpen) {
 
 TEST(DurableLog, PeriodicFlushReachesTheFileWithoutStop) {
   DurableLogConfig config;
-  config.path = temp_path("periodic.lcmlog");
+  config.path = durable_log_path("periodic.lcmlog");
   config.flush_interval = std::chrono::milliseconds(10);
   DurableLog log(config);
   log.start();
@@ -353,7 +351,7 @@ TEST(DurableLog, PeriodicFlushReachesTheFileWithoutStop) {
 
 TEST(DurableLog, TheSessionHeaderIsTheFirstEventOnDiskBeforeTheThreadStarts) {
   DurableLogConfig config;
-  config.path = temp_path("header.lcmlog");
+  config.path = durable_log_path("header.lcmlog");
   config.flush_interval = std::chrono::hours(1);
   DurableLog log(config);
   sculpt_lcm::session_header_t header{};
@@ -389,7 +387,7 @@ TEST(DurableLog, TheSessionHeaderIsTheFirstEventOnDiskBeforeTheThreadStarts) {
 }
 
 TEST(DurableLog, UnwritablePathThrowsNamingIt) {
-  const std::string blocker = temp_path("blocker");
+  const std::string blocker = durable_log_path("blocker");
   std::filesystem::create_directories(std::filesystem::path(blocker).parent_path());
   std::ofstream(blocker) << "a file, not a folder";
   DurableLogConfig config;
@@ -406,7 +404,7 @@ TEST(DurableLog, UnwritablePathThrowsNamingIt) {
 // would keep nothing to recover or replay: refused at once, naming it. /dev/null, a session
 // kept nowhere on purpose, still opens and takes a whole session, for two writers at once.
 TEST(DurableLog, AFifoIsRefusedAtOnceAndDevNullTakesASession) {
-  const std::string fifo = temp_path("fifo.lcmlog");
+  const std::string fifo = durable_log_path("fifo.lcmlog");
   std::filesystem::create_directories(std::filesystem::path(fifo).parent_path());
   std::filesystem::remove(fifo);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
@@ -437,12 +435,12 @@ TEST(DurableLog, AFifoIsRefusedAtOnceAndDevNullTakesASession) {
 // session's bytes stay as they were; once the first has stopped, the log can be replaced.
 TEST(DurableLog, ASecondWriterIsRefusedAndTheFirstSessionsLogStaysAsItWas) {
   DurableLogConfig config;
-  config.path = temp_path("two_writers.lcmlog");
+  config.path = durable_log_path("two_writers.lcmlog");
   DurableLog first(config);
   first.start();
   record_ticks(first, 0, 50);
   first.flush_now();
-  const std::string before = file_bytes(config.path);
+  const std::string before = file_contents(config.path);
   ASSERT_FALSE(before.empty());
   try {
     DurableLog second(config);
@@ -452,10 +450,10 @@ TEST(DurableLog, ASecondWriterIsRefusedAndTheFirstSessionsLogStaysAsItWas) {
     EXPECT_NE(message.find("'" + config.path + "' is being written by another running session"), std::string::npos)
         << message;
   }
-  EXPECT_EQ(file_bytes(config.path), before);
+  EXPECT_EQ(file_contents(config.path), before);
   record_ticks(first, 50, 50);  // the first session goes on writing where it was
   first.stop();
-  const std::string complete = file_bytes(config.path);
+  const std::string complete = file_contents(config.path);
   EXPECT_GT(complete.size(), before.size());
   EXPECT_EQ(complete.compare(0, before.size(), before), 0);
   {
@@ -478,17 +476,17 @@ TEST(DurableLog, ASecondWriterIsRefusedAndTheFirstSessionsLogStaysAsItWas) {
 // locked but untouched; a log that never opened removes the file it made for its lock.
 TEST(DurableLog, AnEarlierLogStaysUntilTheNewSessionOpensIt) {
   DurableLogConfig config;
-  config.path = temp_path("earlier.lcmlog");
+  config.path = durable_log_path("earlier.lcmlog");
   std::filesystem::create_directories(std::filesystem::path(config.path).parent_path());
   std::ofstream(config.path, std::ios::binary) << "an earlier session";
   {
     DurableLog unstarted(config);
     EXPECT_THROW(DurableLog{config}, std::runtime_error) << "the path is locked from the start";
-    EXPECT_EQ(file_bytes(config.path), "an earlier session");
+    EXPECT_EQ(file_contents(config.path), "an earlier session");
     unstarted.flush_now();  // nothing queued: nothing to open
-    EXPECT_EQ(file_bytes(config.path), "an earlier session");
+    EXPECT_EQ(file_contents(config.path), "an earlier session");
   }  // stopped without a start
-  EXPECT_EQ(file_bytes(config.path), "an earlier session");
+  EXPECT_EQ(file_contents(config.path), "an earlier session");
 
   {
     DurableLog replacing(config);
@@ -500,7 +498,7 @@ TEST(DurableLog, AnEarlierLogStaysUntilTheNewSessionOpensIt) {
     EXPECT_EQ(events[0].channel, kSessionChannel);
   }
 
-  config.path = temp_path("never-started.lcmlog");
+  config.path = durable_log_path("never-started.lcmlog");
   { DurableLog never(config); }
   EXPECT_FALSE(std::filesystem::exists(config.path)) << "a session that never started left a file";
   {
@@ -514,7 +512,7 @@ TEST(DurableLog, AnEarlierLogStaysUntilTheNewSessionOpensIt) {
 TEST(DurableLog, LcmLogplayerReplaysTheFile) {
   if (std::system("command -v lcm-logplayer > /dev/null 2>&1") != 0) GTEST_SKIP() << "lcm-logplayer not installed";
   DurableLogConfig config;
-  config.path = temp_path("replay.lcmlog");
+  config.path = durable_log_path("replay.lcmlog");
   Session session;
   {
     DurableLog log(config);

@@ -32,7 +32,7 @@ namespace {
 
 using Bytes = std::vector<std::uint8_t>;
 
-std::string temp_path(const std::string& name) {
+std::string check_log_path(const std::string& name) {
   static const test::ScratchDir kScratch("sculpt_check_test_");  // this process's, removed when it exits
   return (kScratch.path() / name).string();
 }
@@ -51,7 +51,7 @@ void write_bytes(const std::string& path, const Bytes& bytes) {
 // stop. On disk (10 ticks): header, check, t0..t4, check, t5..t9, check.
 std::string checked_log(const std::string& name, int ticks = 10) {
   DurableLogConfig config;
-  config.path = temp_path(name);
+  config.path = check_log_path(name);
   config.flush_interval = std::chrono::hours(1);  // only the calls below flush
   DurableLog log(config);
   sculpt_lcm::session_header_t header{};
@@ -87,7 +87,7 @@ struct Seen {
   EventLogTotals totals;
 };
 
-Seen walk(const std::string& path) {
+Seen walk_checked(const std::string& path) {
   Seen seen;
   seen.totals = for_each_event(
       path,
@@ -139,7 +139,7 @@ TEST(EventCheck, EachCheckHoldsZlibsCrcOfTheFilesOwnBytesOfItsEvents) {
   }
   EXPECT_EQ(checked, 11u) << "the header and the ten ticks, each once";
   // The walk hands on the eleven, checked, and keeps the checks to itself.
-  const Seen seen = walk(path);
+  const Seen seen = walk_checked(path);
   EXPECT_EQ(seen.events.size(), 11u);
   EXPECT_TRUE(seen.damage.empty());
   EXPECT_EQ(seen.totals.failed_checks, 0u);
@@ -161,7 +161,7 @@ TEST(EventCheck, AFlippedBitInsideAFieldIsDamageAtThatEventAndTheRestGoOn) {
     const std::vector<LogEvent> raw = raw_events(path);
     ASSERT_EQ(raw.size(), 14u);
   }
-  const Seen seen = walk(path);
+  const Seen seen = walk_checked(path);
   ASSERT_EQ(seen.damage.size(), 1u);
   EXPECT_EQ(seen.totals.left_out, 0u);
   EXPECT_EQ(seen.damage[0].first, victim.offset);
@@ -190,7 +190,7 @@ TEST(EventCheck, ACrashsTailAfterTheLastCheckGoesOnUnchecked) {
   for (const std::uint64_t cut : {t7.offset + 20, end_of(t7) - 5}) {
     Bytes file(whole.begin(), whole.begin() + static_cast<std::ptrdiff_t>(cut));
     write_bytes(path, file);
-    const Seen seen = walk(path);
+    const Seen seen = walk_checked(path);
     EXPECT_EQ(tick_numbers(seen),
               (std::vector<std::int64_t>{events[2].number, events[3].number, events[4].number, events[5].number,
                                          events[6].number, events[8].number, events[9].number}))
@@ -205,7 +205,7 @@ TEST(EventCheck, ACrashsTailAfterTheLastCheckGoesOnUnchecked) {
 
   file.resize(t7.offset);  // a cut between two events: nothing is damaged
   write_bytes(path, file);
-  const Seen clean = walk(path);
+  const Seen clean = walk_checked(path);
   EXPECT_EQ(tick_numbers(clean).size(), 7u);
   EXPECT_TRUE(clean.damage.empty());
 }
@@ -223,7 +223,7 @@ TEST(EventCheck, ALastCheckSwallowedByALengthLeavesItsEventsOut) {
   Bytes file = read_bytes(path);
   file[t9.offset + kLogHeaderSize - 1] ^= 0x10;  // its data length, 16 bytes longer
   write_bytes(path, file);
-  const Seen seen = walk(path);
+  const Seen seen = walk_checked(path);
   EXPECT_EQ(tick_numbers(seen), (std::vector<std::int64_t>{events[2].number, events[3].number, events[4].number,
                                                            events[5].number, events[6].number}));
   ASSERT_EQ(seen.damage.size(), 2u);
@@ -249,7 +249,7 @@ TEST(EventCheck, ADamagedCheckAndTheEventsItCheckedAreDamage) {
   const std::uint64_t data_start = end_of(check) - check.data.size();
   file[data_start] ^= 0x80;  // its type fingerprint
   write_bytes(path, file);
-  const Seen seen = walk(path);
+  const Seen seen = walk_checked(path);
   // t0..t4, the events the damaged check held, then the check itself, in file order.
   const std::vector<std::int64_t> later{events[8].number, events[9].number, events[10].number, events[11].number,
                                         events[12].number};
@@ -275,7 +275,7 @@ TEST(EventCheck, ADamagedCheckAndTheEventsItCheckedAreDamage) {
   file[data_start] ^= 0x80;  // the fingerprint as it was
   for (std::size_t b = 0; b < 8; ++b) file[data_start + 8 + b] = b == 0 ? 0x7f : 0xff;
   write_bytes(path, file);
-  expect_left_out(walk(path), "a check whose numbers are not a log's (first event 9223372036854775807");
+  expect_left_out(walk_checked(path), "a check whose numbers are not a log's (first event 9223372036854775807");
 }
 
 // Every byte of a checked log flipped in turn: whatever the flip hits (a sync word, a length, a
@@ -295,7 +295,7 @@ TEST(EventCheck, NoFlippedByteAnywhereHandsOnAChangedEvent) {
     }
     return nullptr;
   };
-  const std::string flipped_path = temp_path("every-byte-flipped.lcmlog");
+  const std::string flipped_path = check_log_path("every-byte-flipped.lcmlog");
   std::size_t in_events = 0;
   for (std::size_t at = 0; at < original.size(); ++at) {
     const LogEvent* hit = nullptr;
@@ -306,7 +306,7 @@ TEST(EventCheck, NoFlippedByteAnywhereHandsOnAChangedEvent) {
     Bytes flipped = original;
     flipped[at] ^= 0x10;
     write_bytes(flipped_path, flipped);
-    const Seen seen = walk(flipped_path);
+    const Seen seen = walk_checked(flipped_path);
     for (const LogEvent& e : seen.events) {
       const LogEvent* was = written_at(e.offset);
       ASSERT_NE(was, nullptr) << "byte " << at << ": an event handed on at offset " << e.offset
@@ -339,7 +339,7 @@ TEST(EventCheck, NoFlippedByteAnywhereHandsOnAChangedEvent) {
 // A log with no check after its first event (lcm-logger's, or the durable log's before checks)
 // reads as it always did: every event, nothing held back, nothing called damage.
 TEST(EventCheck, ALogWithoutChecksReadsAsBefore) {
-  const std::string path = temp_path("unchecked.lcmlog");
+  const std::string path = check_log_path("unchecked.lcmlog");
   {
     lcm::LogFile file(path, "w");
     ASSERT_TRUE(file.good());
@@ -357,7 +357,7 @@ TEST(EventCheck, ALogWithoutChecksReadsAsBefore) {
   Bytes file = read_bytes(path);
   file[file.size() - 1] ^= 0x01;  // unseen without a check
   write_bytes(path, file);
-  const Seen seen = walk(path);
+  const Seen seen = walk_checked(path);
   EXPECT_EQ(seen.events.size(), 5u);
   EXPECT_TRUE(seen.damage.empty());
   EXPECT_EQ(seen.totals.failed_checks, 0u);

@@ -33,7 +33,7 @@ using Bytes = std::vector<std::uint8_t>;
 using Result = EventLogReader::Result;
 
 // This process's folder, removed when it exits.
-std::string temp_path(const std::string& name) {
+std::string reader_log_path(const std::string& name) {
   static const test::ScratchDir kScratch("sculpt_reader_test_");
   return (kScratch.path() / name).string();
 }
@@ -122,7 +122,7 @@ void put_i32(Bytes& bytes, std::uint64_t at, std::int32_t value) {
 std::string offset_text(std::uint64_t offset) { return "byte offset " + std::to_string(offset) + ": "; }
 
 TEST(EventLogReader, MissingFileThrowsNamingThePath) {
-  const std::string path = temp_path("does_not_exist.lcmlog");
+  const std::string path = reader_log_path("does_not_exist.lcmlog");
   try {
     EventLogReader reader(path);
     FAIL() << "no throw";
@@ -152,7 +152,7 @@ TEST(EventLogReader, AFolderOrADeviceIsNamedForWhatItIs) {
 // A FIFO named as a log held the open until a writer came: `sculpt replay`, `render --log` and
 // `report` waited for ever. It is refused at once, as a model or a scene is.
 TEST(EventLogReader, AFifoIsRefusedWithoutWaitingForAWriter) {
-  const std::string path = temp_path("fifo.lcmlog");
+  const std::string path = reader_log_path("fifo.lcmlog");
   std::filesystem::remove(path);
   ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0) << std::strerror(errno);
   try {
@@ -165,7 +165,7 @@ TEST(EventLogReader, AFifoIsRefusedWithoutWaitingForAWriter) {
 }
 
 TEST(EventLogReader, EmptyFileIsTheEnd) {
-  const std::string path = temp_path("empty.lcmlog");
+  const std::string path = reader_log_path("empty.lcmlog");
   save(path, {});
   EventLogReader reader(path);
   LogEvent event;
@@ -176,7 +176,7 @@ TEST(EventLogReader, EmptyFileIsTheEnd) {
 }
 
 TEST(EventLogReader, ReadsEveryEventWithItsOffset) {
-  const std::string path = temp_path("intact.lcmlog");
+  const std::string path = reader_log_path("intact.lcmlog");
   const Written written = write_mixed(path);
   EventLogReader reader(path);
   LogEvent event;
@@ -205,7 +205,7 @@ TEST(EventLogReader, ReadsEveryEventWithItsOffset) {
 }
 
 TEST(EventLogReader, StartsAtTheEndOfAnEventAnEarlierReaderReturned) {
-  const std::string path = temp_path("resumed.lcmlog");
+  const std::string path = reader_log_path("resumed.lcmlog");
   const Written written = write_mixed(path);
   LogEvent event;
   {
@@ -235,7 +235,7 @@ TEST(EventLogReader, StartsAtTheEndOfAnEventAnEarlierReaderReturned) {
   }
 }
 TEST(EventLogReader, TruncatedInsideAHeader) {
-  const std::string path = temp_path("truncated_header.lcmlog");
+  const std::string path = reader_log_path("truncated_header.lcmlog");
   const Written written = write_mixed(path);
   std::filesystem::resize_file(path, written.offsets[4] + 10);
   EventLogReader reader(path);
@@ -250,7 +250,7 @@ TEST(EventLogReader, TruncatedInsideAHeader) {
 }
 
 TEST(EventLogReader, TruncatedInsideThePayload) {
-  const std::string path = temp_path("truncated_data.lcmlog");
+  const std::string path = reader_log_path("truncated_data.lcmlog");
   const Written written = write_mixed(path);
   const std::uint64_t cut = written.offsets[4] + kLogHeaderSize + std::string(kCollisionChannel).size() + 5;
   std::filesystem::resize_file(path, cut);
@@ -266,7 +266,7 @@ TEST(EventLogReader, TruncatedInsideThePayload) {
 }
 
 TEST(EventLogReader, BadSyncWordIsReportedAndSkipped) {
-  const std::string path = temp_path("bad_sync.lcmlog");
+  const std::string path = reader_log_path("bad_sync.lcmlog");
   const Written written = write_mixed(path);
   Bytes bytes = load(path);
   bytes[written.offsets[2]] = 0x12;  // 0xEDA1DA01 -> 0x12A1DA01
@@ -289,7 +289,7 @@ TEST(EventLogReader, BadSyncWordIsReportedAndSkipped) {
 }
 
 TEST(EventLogReader, GarbageBetweenEventsIsSkipped) {
-  const std::string path = temp_path("garbage.lcmlog");
+  const std::string path = reader_log_path("garbage.lcmlog");
   const Written written = write_mixed(path);
   Bytes bytes = load(path);
   Bytes garbage(100);
@@ -326,7 +326,7 @@ TEST(EventLogReader, NegativeAndHugeLengthsAreRejectedWithoutAllocating) {
       {24, 0x7FFFFFF0, ""},  // the message depends on the size left; checked below
   };
   for (const Case& c : cases) {
-    const std::string path = temp_path("lengths.lcmlog");
+    const std::string path = reader_log_path("lengths.lcmlog");
     const Written written = write_mixed(path);
     Bytes bytes = load(path);
     put_i32(bytes, written.offsets[1] + c.field, c.value);
@@ -349,7 +349,7 @@ TEST(EventLogReader, NegativeAndHugeLengthsAreRejectedWithoutAllocating) {
 }
 
 TEST(EventLogReader, GarbagePayloadOnTheCollisionChannelNamesTheOffset) {
-  const std::string path = temp_path("garbage_payload.lcmlog");
+  const std::string path = reader_log_path("garbage_payload.lcmlog");
   Bytes garbage = collision_bytes(1);
   std::mt19937 random(11);
   for (auto& b : garbage) b = static_cast<std::uint8_t>(random());
@@ -367,7 +367,7 @@ TEST(EventLogReader, GarbagePayloadOnTheCollisionChannelNamesTheOffset) {
 }
 
 TEST(EventLogReader, WrongTypeOnTheCollisionChannelIsAFingerprintError) {
-  const std::string path = temp_path("wrong_type.lcmlog");
+  const std::string path = reader_log_path("wrong_type.lcmlog");
   const Written written =
       write_log(path, {{kCollisionChannel, collision_bytes(0)}, {kCollisionChannel, tick_bytes(1)}});
   EventLogReader reader(path);
@@ -386,7 +386,7 @@ TEST(EventLogReader, WrongTypeOnTheCollisionChannelIsAFingerprintError) {
 }
 
 TEST(EventLogReader, ShortAndOverlongPayloadsAreDecodeErrors) {
-  const std::string path = temp_path("short_long.lcmlog");
+  const std::string path = reader_log_path("short_long.lcmlog");
   Bytes whole = collision_bytes(2);
   Bytes short_payload(whole.begin(), whole.begin() + 20);  // right fingerprint, cut short
   Bytes long_payload = whole;
@@ -413,7 +413,7 @@ TEST(EventLogReader, ShortAndOverlongPayloadsAreDecodeErrors) {
 // Seeded random bit flips: never a crash, never a hang, and every byte of the file is either
 // part of an event handed out or counted as skipped.
 TEST(EventLogReader, RandomBitFlipsNeverBreakTheReader) {
-  const std::string path = temp_path("flips.lcmlog");
+  const std::string path = reader_log_path("flips.lcmlog");
   std::vector<std::pair<std::string, Bytes>> events;
   for (int i = 0; i < 60; ++i) {
     events.emplace_back(i % 3 == 0 ? kCollisionChannel : kTickChannel, i % 3 == 0 ? collision_bytes(i) : tick_bytes(i));

@@ -10,6 +10,7 @@
 #include "sculpt/rt/realtime_setup.hpp"
 #include "sculpt/rt/similarity_transform.hpp"
 #include "support/allocation_counter.hpp"
+#include "support/nanoseconds.hpp"
 
 #include <gtest/gtest.h>
 
@@ -29,7 +30,7 @@
 namespace sculpt::rt {
 namespace {
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 
 TEST(FixedRateLoop, AcceptsFiftyToTwoThousandHertz) {
   EXPECT_THROW(FixedRateLoop(49.9), std::invalid_argument);

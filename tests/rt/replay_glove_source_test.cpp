@@ -8,11 +8,12 @@
 #include <vector>
 
 #include "sculpt/rt/replay_glove_source.hpp"
+#include "support/nanoseconds.hpp"
 
 namespace sculpt::rt {
 namespace {
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 
 hal::GloveSample sample(std::uint32_t sequence, std::int64_t receive_ns) {
   hal::GloveSample s;

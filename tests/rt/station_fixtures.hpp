@@ -8,6 +8,7 @@
 
 #include "sculpt/hal/glove_source.hpp"
 #include "sculpt/rt/station.hpp"
+#include "support/nanoseconds.hpp"
 
 namespace sculpt::rt::test_fixtures {
 
@@ -63,6 +64,6 @@ inline StationSettings press_settings() {
   return s;
 }
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 
 }  // namespace sculpt::rt::test_fixtures

@@ -34,7 +34,7 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 constexpr std::int64_t kLastFrame = std::numeric_limits<std::int64_t>::max();
 
-std::string temp_path(const std::string& name) {
+std::string catch_up_log_path(const std::string& name) {
   static const test::ScratchDir kScratch("sculpt_catch_up_test_");
   return (kScratch.path() / name).string();
 }
@@ -68,7 +68,7 @@ std::vector<std::pair<std::string, Bytes>> session_events(int ticks) {
 }
 
 Bytes written_by_lcm(const std::vector<std::pair<std::string, Bytes>>& events) {
-  const std::string path = temp_path("source.lcmlog");
+  const std::string path = catch_up_log_path("source.lcmlog");
   {
     lcm::LogFile log(path, "w");
     std::int64_t i = 0;
@@ -153,7 +153,7 @@ void expect_same(const CatchUpResult& got, const CatchUpResult& truth, const std
 
 TEST(CatchUpLog, AGrowingLogCutAnywhereAnswersAsAWholeReadAndIsReadAboutOnce) {
   const Bytes bytes = written_by_lcm(session_events(1000));
-  const std::string path = temp_path("live.lcmlog");
+  const std::string path = catch_up_log_path("live.lcmlog");
   save(path, bytes, 0);
   CatchUpLog log(path);
   // Cut points spread over the file at odd strides, so that they fall in headers, channel
@@ -186,7 +186,7 @@ TEST(CatchUpLog, AGrowingLogCutAnywhereAnswersAsAWholeReadAndIsReadAboutOnce) {
 TEST(CatchUpLog, DamageInsideIsCountedAndPassedAndANewSessionStartsOver) {
   const std::vector<std::pair<std::string, Bytes>> events = session_events(300);
   Bytes bytes = written_by_lcm(events);
-  const std::string path = temp_path("damaged.lcmlog");
+  const std::string path = catch_up_log_path("damaged.lcmlog");
   CatchUpLog log(path);
   const CatchUpResult half = first_half(bytes, path, log);
   ASSERT_FALSE(half.events.empty());
@@ -227,7 +227,7 @@ TEST(CatchUpLog, AGrowingCheckedLogIsAnsweredAsFarAsItsLastCheck) {
   const std::vector<std::size_t> offsets = event_offsets(events);
   const Bytes bytes = written_by_lcm(events);
   ASSERT_EQ(offsets.back(), bytes.size());
-  const std::string path = temp_path("checked.lcmlog"), checked = temp_path("checked_part.lcmlog");
+  const std::string path = catch_up_log_path("checked.lcmlog"), checked = catch_up_log_path("checked_part.lcmlog");
   save(path, bytes, 0);
   CatchUpLog log(path);
   std::int64_t next = 0;
@@ -268,7 +268,7 @@ TEST(CatchUpLog, ACollisionThatDoesNotMatchItsCheckIsNeverAnswered) {
   const auto events = with_checks(session_events(300), 16);
   const std::vector<std::size_t> offsets = event_offsets(events);
   Bytes bytes = written_by_lcm(events);
-  const std::string path = temp_path("flipped.lcmlog");
+  const std::string path = catch_up_log_path("flipped.lcmlog");
   CatchUpLog log(path);
   const CatchUpResult half = first_half(bytes, path, log);
   ASSERT_FALSE(half.events.empty());
@@ -281,7 +281,7 @@ TEST(CatchUpLog, ACollisionThatDoesNotMatchItsCheckIsNeverAnswered) {
   save(path, bytes, bytes.size());
   logging::CollisionRecord flipped;
   {
-    const std::string alone = temp_path("flipped_event.lcmlog");
+    const std::string alone = catch_up_log_path("flipped_event.lcmlog");
     save(alone, Bytes(bytes.begin() + static_cast<long>(offsets[k]), bytes.begin() + static_cast<long>(offsets[k + 1])),
          offsets[k + 1] - offsets[k]);
     const auto read = read_session_log(alone);
@@ -322,7 +322,7 @@ TEST(CatchUpLog, CollisionsWhoseCheckWasLostAreLeftOut) {
   }
   ASSERT_GT(collisions, 0u);
   bytes[offsets[renamed] + logging::kLogHeaderSize] ^= 0x20;  // SCULPT_CHECK -> sCULPT_CHECK
-  const std::string path = temp_path("renamed.lcmlog");
+  const std::string path = catch_up_log_path("renamed.lcmlog");
   save(path, bytes, bytes.size());
   CatchUpLog log(path);
   const CatchUpResult got = log.events(0, kLastFrame);

@@ -8,11 +8,12 @@
 #include <vector>
 
 #include "frame_follower.hpp"
+#include "support/nanoseconds.hpp"
 
 namespace sculpt::view {
 namespace {
 
-constexpr std::int64_t kMs = 1'000'000;
+using test::kMs;
 
 logging::CollisionRecord event(std::int64_t frame_id, std::int64_t tick, int frame_size = 1, int finger = 1) {
   logging::CollisionRecord r;

@@ -47,7 +47,7 @@ void forward_tick(int client, std::int64_t tick) {
 // Waits up to 10 s for a TickSeen from `receiver`; -1 when none came.
 std::int64_t next_tick(LcmReceiver& receiver) {
   std::int64_t seen = -1;
-  support::eventually([&] {
+  support::eventually_within_10s([&] {
     for (const LiveMessage& m : receiver.take()) {
       if (const auto* tick = std::get_if<TickSeen>(&m)) {
         seen = tick->tick;

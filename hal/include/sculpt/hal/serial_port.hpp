@@ -10,6 +10,11 @@
 
 namespace sculpt::hal {
 
+/// Upper bound on one wait of a serial I/O thread (the glove source's and the haptic sink's).
+/// stop() wakes the thread through an eventfd, so this only matters if that wake were lost; it
+/// costs a wake-up ten times a second.
+inline constexpr int kSerialPollTimeoutMs = 100;
+
 /// Outcome of one read or write on a SerialPort.
 enum class IoStatus : std::uint8_t {
   kOk,          ///< some bytes moved (see the count)

@@ -5,6 +5,7 @@
 // Units are those of the matching .lcm field (docs/lcm-types.md).
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "sculpt/base/clock.hpp"
@@ -17,6 +18,11 @@ namespace sculpt::logging {
 
 using Vec3f = base::Float3;
 using Vec3d = base::Double3;
+
+/// Every sculpt_lcm message is fixed-size and well under this many bytes encoded (the largest,
+/// glove_sample_t, is 386 with its fingerprint), so the logging threads encode each into one
+/// stack buffer of this size instead of allocating per message.
+inline constexpr std::size_t kMaxEncodedSize = 1024;
 
 /// Records are stamped with the host's wall clock (sculpt/base/clock.hpp).
 using base::wall_time_us;
