@@ -178,7 +178,8 @@ build_initrd() { # the folder holding the suite's built targets
 # Software emulation cannot run a binary built for this machine's CPU (SCULPT_NATIVE: qemu's
 # "max" CPU has AVX2 but no AVX-512), so under it the guest gets the suite's programs from a
 # portable build of their own, kept in $CACHE/portable (configured once, then rebuilt
-# incrementally). Prints the folder holding them.
+# incrementally), a unity build as the test command's later passes are (scripts/test.sh). Prints
+# the folder holding them.
 portable_targets() {
   local portable=$CACHE/portable flags
   if ! grep -q '^SCULPT_NATIVE:BOOL=ON' "$BUILD/CMakeCache.txt" 2>/dev/null; then
@@ -189,7 +190,7 @@ portable_targets() {
   echo "guest_test: building a portable ${TARGETS[*]} (SCULPT_NATIVE=OFF) in $portable" >&2
   if [ ! -f "$portable/build.ninja" ]; then
     cmake -S "$SOURCE" -B "$portable" -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS=$flags" \
-      -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF >"$CACHE/portable.log" 2>&1 ||
+      -DSCULPT_NATIVE=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DCMAKE_UNITY_BUILD=ON >"$CACHE/portable.log" 2>&1 ||
       fail "configuring the portable build failed (see $CACHE/portable.log)"
   fi
   cmake --build "$portable" -j "${GUEST_BUILD_JOBS:-2}" --target "${TARGETS[@]}" >>"$CACHE/portable.log" 2>&1 ||

@@ -31,7 +31,9 @@ checkout_untouched() {
   fi
 }
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-Werror >/dev/null
+# The test programs and the command line as unity builds (SCULPT_UNITY_DRIVERS: the top-level
+# CMakeLists.txt says why); the libraries file by file, as the benchmarks time them.
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-Werror -DSCULPT_UNITY_DRIVERS=ON >/dev/null
 cmake --build build -j"$jobs"
 (cd build && ctest --output-on-failure -j"$jobs")
 checkout_untouched
@@ -43,12 +45,11 @@ phase_done "Release build and tests"
 # option reaches that library, which both passes compile with the same flags.
 # The passes after the first compile the test programs and the command line's own sources at
 # -O0 (SCULPT_DRIVER_FLAGS; CMakeLists.txt says why) and the libraries as their pass says.
-# They also build as a unity build (CMake joins each target's files into batches of eight): the
-# headers (GoogleTest, Eigen, LCM) are read once per batch, not once per file, which took the
-# three passes' builds from about 20 minutes to 8 here. The first pass stays file by file: it is
-# what a developer builds, what clang-tidy reads (one compile command per file) and what the
-# benchmarks time. A helper with the same name in two files of one target stops the unity build
-# (a redefinition): give file-local helpers names of their own, or share them from a header.
+# They build every target as a unity build (CMake joins each target's files into batches of
+# eight): the headers (GoogleTest, Eigen, LCM) are read once per batch, not once per file, which
+# took the three passes' builds from about 20 minutes to 8 here. A helper with the same name in
+# two files of one target stops a unity build (a redefinition): give file-local helpers names of
+# their own, or share them from a header.
 unity="-DCMAKE_UNITY_BUILD=ON"
 cmake -S . -B build-minimal -G Ninja -DCMAKE_BUILD_TYPE=Release -DSCULPT_WITH_LCM=OFF -DSCULPT_WITH_USB=OFF \
   -DSCULPT_WITH_CAN=OFF -DSCULPT_BUILD_BENCHMARKS=OFF -DSCULPT_BUILD_DEFORM_TESTS=OFF -DSCULPT_GUEST_TESTS=OFF \
@@ -60,9 +61,13 @@ phase_done "minimal configuration"
 
 # The house style (.clang-format) and naming (.clang-tidy), over every source file.
 git ls-files -z '*.cpp' '*.hpp' | xargs -0 clang-format --dry-run --Werror
-# clang-tidy over every file the Release build compiles (its compile_commands.json); GCC's
-# pragmas and warning groups are unknown to clang and not this check's business.
-run-clang-tidy -p build -quiet -j "$jobs" -extra-arg=-Wno-unknown-pragmas -extra-arg=-Wno-unknown-warning-option \
+# clang-tidy over every file the Release build compiles, from a compile command per file: a
+# tree configured as the Release pass but file by file (that pass's unity batches would hide the
+# files), with the LCM headers it generates and builds nothing else. GCC's pragmas and warning
+# groups are unknown to clang and not this check's business.
+cmake -S . -B build-tidy -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-Werror >/dev/null
+cmake --build build-tidy --target sculpt_lcm_generate >/dev/null
+run-clang-tidy -p build-tidy -quiet -j "$jobs" -extra-arg=-Wno-unknown-pragmas -extra-arg=-Wno-unknown-warning-option \
   "^$root/(base|deform|hal|logging|lcmtypes|rt|render|tools|tests)/" >/tmp/sculpt-tidy.log 2>&1 ||
   { grep -E "(error|warning):" /tmp/sculpt-tidy.log; echo "test: clang-tidy found names off the house style"; exit 1; }
 phase_done "format and naming checks"
