@@ -65,15 +65,37 @@ TEST(CanSocket, StartExplainsWhatIsMissing) {
   EXPECT_THROW(sink.start(), std::runtime_error);
 }
 
-TEST(CanSocket, RejectsBadConfigAtConstruction) {
+// What constructing `Backend` from `config` throws as std::invalid_argument; empty if nothing.
+template <typename Backend>
+std::string rejection(const CanConfig& config) {
+  try {
+    Backend backend(config);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CanSocket, RejectsBadConfigAtConstructionNamingTheSetting) {
   CanConfig config;
   config.interface = "";
-  EXPECT_THROW(CanGloveSource{config}, std::invalid_argument);
+  EXPECT_EQ(rejection<CanGloveSource>(config), "glove.can.interface: empty");
+  EXPECT_EQ(rejection<CanHapticSink>(config), "haptic.can.interface: empty");
   config.interface = "a_name_much_too_long_for_linux";
-  EXPECT_THROW(CanGloveSource{config}, std::invalid_argument);
+  EXPECT_EQ(rejection<CanGloveSource>(config),
+            "glove.can.interface: 'a_name_much_too_long_for_linux' is longer than 15 characters");
+  EXPECT_EQ(rejection<CanHapticSink>(config),
+            "haptic.can.interface: 'a_name_much_too_long_for_linux' is longer than 15 characters");
   config.interface = "can0";
-  config.base_id = kCanMaxExtendedId;
-  EXPECT_THROW(CanGloveSource{config}, std::invalid_argument);
+  // The last base id whose span of ids still fits in 29 bits is taken; one more is refused.
+  config.base_id = kCanMaxExtendedId - kCanIdSpan;
+  EXPECT_EQ(rejection<CanGloveSource>(config), "");
+  EXPECT_EQ(rejection<CanHapticSink>(config), "");
+  config.base_id += 1;
+  const std::string too_high = ".base_id: " + std::to_string(config.base_id) + " leaves no room for the " +
+                               std::to_string(kCanIdSpan) + " ids after it below 0x1FFFFFFF";
+  EXPECT_EQ(rejection<CanGloveSource>(config), "glove.can" + too_high);
+  EXPECT_EQ(rejection<CanHapticSink>(config), "haptic.can" + too_high);
 }
 
 // Appends a netlink attribute to `message`, whose header says how long it is so far.
