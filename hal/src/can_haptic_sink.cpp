@@ -3,15 +3,12 @@
 #include "sculpt/base/clock.hpp"
 
 #include <linux/can.h>
-#include <net/if.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
-#include <stdexcept>
-#include <string>
 
 #include "can_glove_source.hpp"
 
