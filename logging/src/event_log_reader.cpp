@@ -119,7 +119,7 @@ std::string EventLogReader::check(std::uint64_t offset, const Header& header, st
   return {};
 }
 
-EventLogReader::Result EventLogReader::corrupt(std::string what, bool cut) {
+EventLogReader::Result EventLogReader::corrupt(const std::string& what, bool cut) {
   error_ = path_ + ": byte offset " + std::to_string(position_) + ": " + what;
   error_is_cut_ = cut;
   error_offset_ = position_;

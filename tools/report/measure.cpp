@@ -133,7 +133,7 @@ std::vector<Row> session_rows(const rt::Scene& scene, const rt::SampleLog* sampl
   rows.push_back(whole);
   // Whole sessions with the heuristics a per-frame row cannot judge over time: a region's
   // pinned band and stale normals both change where later frames find the surface.
-  auto variant = [&](const std::string& name, rt::Scene changed) {
+  auto variant = [&](const std::string& name, const rt::Scene& changed) {
     const RecordedSession run = record_session(changed, samples);
     Row row = labelled(name, "session", RowKind::kSession);
     set_times(row, run.frame_ns);

@@ -86,7 +86,7 @@ class EventLogReader {
     std::int32_t channel_length = 0;
     std::int32_t data_length = 0;
   };
-  Result corrupt(std::string what, bool cut);
+  Result corrupt(const std::string& what, bool cut);
   void read_at(std::uint64_t offset, void* buffer, std::size_t size);
   Header read_header(std::uint64_t offset);
   /// Empty when the event at `offset` (header already read) is well-formed, else why not (and
