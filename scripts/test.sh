@@ -33,6 +33,7 @@ checkout_untouched() {
 
 # The test programs and the command line as unity builds (SCULPT_UNITY_DRIVERS: the top-level
 # CMakeLists.txt says why); the libraries file by file, as the benchmarks time them.
+# scripts/main.sh configures build/ alike (the shared_build_tree test), so the two share it.
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-Werror -DSCULPT_UNITY_DRIVERS=ON >/dev/null
 cmake --build build -j"$jobs"
 (cd build && ctest --output-on-failure -j"$jobs")
