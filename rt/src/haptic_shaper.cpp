@@ -1,5 +1,6 @@
 #include "sculpt/rt/haptic_shaper.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -34,14 +35,18 @@ deform::Vec3 HapticShaper::step(std::size_t i, const deform::Vec3& reaction) noe
   if (!std::isfinite(magnitude)) target = deform::Vec3{};
   if (magnitude > limits_.max_force) target = target * (limits_.max_force / magnitude);
   deform::Vec3& out = output_[i];
-  const double now = deform::norm(out), wanted = deform::norm(target);
-  if (wanted <= now) {
-    out = target;  // falling (or turning at no more force): at once
-  } else {
-    // Rising: at most max_rise_per_tick_ more magnitude than last tick, along the target.
-    const double allowed = now + max_rise_per_tick_;
-    out = wanted <= allowed ? target : target * (allowed / wanted);
-  }
+  // Falling is at once: the last output shrinks to its share along the target (to nothing when
+  // the target points away from it), a force in the output's own direction that only fell.
+  // From there the output moves towards the target by at most max_rise_per_tick_. A limit on
+  // the magnitude alone let a force turn at full magnitude in one tick: a reversal at 4 N is an
+  // 8 N step on the hand. This way the push along any direction rises by at most the limit a
+  // tick over what it was (or over zero), however the target turns.
+  const double out_squared = deform::squared_norm(out);
+  const double share = out_squared > 0.0 ? std::clamp(deform::dot(target, out) / out_squared, 0.0, 1.0) : 0.0;
+  const deform::Vec3 fallen = out * share;
+  const deform::Vec3 rise = target - fallen;
+  const double rise_norm = deform::norm(rise);
+  out = rise_norm <= max_rise_per_tick_ ? target : fallen + rise * (max_rise_per_tick_ / rise_norm);
   return out;
 }
 
