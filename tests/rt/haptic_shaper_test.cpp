@@ -72,7 +72,8 @@ TEST(HapticShaper, NoDirectionsPushRisesFasterThanTheLimitAndFallsAreImmediate) 
   for (int k = 0; k < 50; ++k) directions.push_back(deform::normalized(random_vector()));
   Vec3 previous{};
   for (int t = 0; t < 3000; ++t) {
-    // Runs of one target (reached, then held) between sudden changes, and ticks of noise.
+    // Thirty ticks of a new random target every tick (turns, reversals, past the clamp), then
+    // twenty of one direction growing in steps and dropping to nothing every seventh tick.
     const Vec3 reaction = t % 50 < 30 ? random_vector() * 0.8 : Vec3{0.7, -0.4, 0.2} * static_cast<double>(t % 7);
     Vec3 target = reaction * l.gain;
     if (deform::norm(target) > l.max_force) target = target * (l.max_force / deform::norm(target));
@@ -92,7 +93,8 @@ TEST(HapticShaper, NoDirectionsPushRisesFasterThanTheLimitAndFallsAreImmediate) 
     }
     previous = out;
   }
-  // Held long enough (two full swings at the limit), any target is reached exactly.
+  // Held long enough (from any output within the clamp, at most 8 N to cover at 0.3 N a tick),
+  // a target is reached exactly.
   const Vec3 held{-1.0, 2.0, 0.5};
   Vec3 out{};
   for (int t = 0; t < 30; ++t) out = s.step(0, held);

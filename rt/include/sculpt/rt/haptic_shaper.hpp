@@ -1,8 +1,9 @@
 #pragma once
 // What may reach an actuator on a person's hand: the surface's reaction on each finger, scaled
 // by a gain, clamped to a safe force and limited in how fast it may rise, along any direction:
-// a force that turns or reverses rises in its new direction no faster than from rest. Falling
-// force and release are never delayed: they take effect in the tick they are asked for.
+// a force that reverses builds up again from nothing, one that turns from its share along the
+// new direction. Falling force and release are never delayed: they take effect in the tick
+// they are asked for.
 
 #include <cstddef>
 #include <vector>
