@@ -276,6 +276,18 @@ TEST(EventCheck, ADamagedCheckAndTheEventsItCheckedAreDamage) {
   for (std::size_t b = 0; b < 8; ++b) file[data_start + 8 + b] = b == 0 ? 0x7f : 0xff;
   write_bytes(path, file);
   expect_left_out(walk_checked(path), "a check whose numbers are not a log's (first event 9223372036854775807");
+
+  // A count LCM's decoder would trust (lcm_lengths.hpp): negative, it threw std::length_error
+  // out of the walk, refusing the whole log; past 2^29 it overflowed decode's int size check
+  // and read past the payload. Each is the same damage, named.
+  for (std::size_t b = 0; b < 8; ++b) file[data_start + 8 + b] = 0;  // first event 0
+  for (const std::uint32_t count : {0xFFFFFFFFu, 0x80000000u, 0x20000001u, 0x7FFFFFFFu, 6u}) {
+    SCOPED_TRACE(count);
+    for (std::size_t b = 0; b < 4; ++b) file[data_start + 16 + b] = static_cast<std::uint8_t>(count >> (24 - 8 * b));
+    write_bytes(path, file);
+    expect_left_out(walk_checked(path),
+                    "crc's count " + std::to_string(static_cast<std::int32_t>(count)) + " at payload byte 16");
+  }
 }
 
 // Every byte of a checked log flipped in turn: whatever the flip hits (a sync word, a length, a

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "sculpt/logging/lcm_lengths.hpp"
+
 namespace sculpt::logging {
 
 /// A log file that cannot be opened or read at all; the message names the path.
@@ -110,8 +112,9 @@ class EventLogReader {
 
 /// Decodes `event`'s payload as `Message`. False, with `error` naming the channel and the
 /// event's byte offset, when the payload is shorter than a fingerprint, carries another type's
-/// fingerprint (e.g. a tick_stats_t on the collision channel), is too short for the type, or
-/// has bytes left over after it.
+/// fingerprint (e.g. a tick_stats_t on the collision channel), carries an array count or string
+/// length that does not fit it (checked before LCM's decoder trusts it), is too short for the
+/// type, or has bytes left over after it.
 template <typename Message>
 bool decode(const LogEvent& event, Message& out, std::string& error) {
   const auto where = [&] { return event.channel + " event at byte offset " + std::to_string(event.offset) + ": "; };
@@ -134,6 +137,11 @@ bool decode(const LogEvent& event, Message& out, std::string& error) {
   // The reader caps every event at the file size, and LCM's sizes are int.
   if (size > static_cast<std::size_t>(INT32_MAX)) {
     error = where() + "payload of " + std::to_string(size) + " bytes is too large";
+    return false;
+  }
+  // lcm-gen's decoders trust the lengths inside the payload (lcm_lengths.hpp).
+  if (const std::string problem = payload_lengths_problem(out, event.data); !problem.empty()) {
+    error = where() + problem;
     return false;
   }
   const int used = out.decode(event.data.data(), 0, static_cast<int>(size));
