@@ -21,7 +21,7 @@ PACKAGES=(
   can-utils
   libcgal-demo zlib1g-dev
   libosmesa6-dev libglfw3-dev libgl-dev xvfb xdotool
-  clang-format clang-tidy
+  clang-format clang-tidy clang libclang-rt-14-dev
   openjdk-17-jdk-headless liblcm-java libjchart2d-java python3-matplotlib
   gnuplot-nox
   qemu-system-x86 busybox-static iproute2 xz-utils

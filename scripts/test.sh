@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Every test: set up a fresh Debian 12, build with warnings as errors, run the suite, build and
-# run it again in the minimal configuration (no LCM, USB or CAN), then rebuild under
-# AddressSanitizer + UndefinedBehaviorSanitizer and run it again (the parsers' fuzz tests are
-# the point of that pass), then once more under ThreadSanitizer.
+# run it again in the minimal configuration (no LCM, USB or CAN), check the format and names,
+# run the libFuzzer targets on a fixed set of inputs, then rebuild under AddressSanitizer +
+# UndefinedBehaviorSanitizer and run the suite again (the parsers' fuzz tests are the point of
+# that pass), then once more under ThreadSanitizer.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -72,6 +73,13 @@ run-clang-tidy -p build-tidy -quiet -j "$jobs" -extra-arg=-Wno-unknown-pragmas -
   "^$root/(base|deform|hal|logging|lcmtypes|rt|render|tools|tests)/" >/tmp/sculpt-tidy.log 2>&1 ||
   { grep -E "(error|warning):" /tmp/sculpt-tidy.log; echo "test: clang-tidy found names off the house style"; exit 1; }
 phase_done "format and naming checks"
+
+# libFuzzer over the model readers, the scene parser, the log as replay reads it and the
+# transfer (scripts/fuzz.sh, under ASan and UBSan): a fixed set of inputs from a fixed seed, the
+# same every run, so that a finding is a regression and not luck. Its own tree, built by clang.
+bash scripts/fuzz.sh --check
+checkout_untouched
+phase_done "libFuzzer regression check"
 
 # The sanitizer passes keep line tables only (-g1, not -g): a report still names the file and
 # line of each frame, and files compile 13 to 37 % faster (three of the heaviest, timed here).
