@@ -75,8 +75,9 @@ run-clang-tidy -p build-tidy -quiet -j "$jobs" -extra-arg=-Wno-unknown-pragmas -
 phase_done "format and naming checks"
 
 # libFuzzer over the model readers, the scene parser, the log as replay reads it and the
-# transfer (scripts/fuzz.sh, under ASan and UBSan): a fixed set of inputs from a fixed seed, the
-# same every run, so that a finding is a regression and not luck. Its own tree, built by clang.
+# transfer (scripts/fuzz.sh, under ASan and UBSan): a fixed number of inputs from the committed
+# seeds and a fixed random seed, so that each run makes nearly the same search, long enough to
+# find the log check's bug again in seconds. Its own tree, built by clang.
 bash scripts/fuzz.sh --check
 checkout_untouched
 phase_done "libFuzzer regression check"
