@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
     settings.contact.guard_distance = 0.3;
     deform::Deformer deformer(model, settings);
     const std::size_t fingers[2] = {0, 150};
+    std::int64_t frame_id = 0;
     for (int frame = 1; frame <= 4; ++frame) {
       std::vector<deform::ProbeMotion> probes;
       for (const std::size_t i : fingers) {
@@ -50,8 +51,8 @@ int main(int argc, char** argv) {
       const std::int64_t utime = 1'700'000'000'000'000 + frame * 1000;
       std::vector<logging::CollisionRecord> records;
       deformer.deform(probes);
-      for (const deform::FrameReport& step : deformer.frames()) {  // a frame split into substeps: each
-        rt::append_frame_records(step, settings, frame, frame, records);
+      for (const deform::FrameReport& step : deformer.frames()) {  // a frame split into substeps: one each
+        rt::append_frame_records(step, settings, frame_id++, frame, records);
       }
       for (logging::CollisionRecord& r : records) {
         r.utime = utime;
