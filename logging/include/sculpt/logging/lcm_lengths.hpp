@@ -47,8 +47,11 @@ inline constexpr bool kFixedSizeMessage<sculpt_lcm::tick_stats_t> = true;
 std::string payload_lengths_problem(const sculpt_lcm::log_check_t&, std::span<const std::uint8_t> payload);
 std::string payload_lengths_problem(const sculpt_lcm::session_header_t&, std::span<const std::uint8_t> payload);
 
+/// Any other type: one declared fixed-size has nothing to walk.
 template <typename Message>
-requires kFixedSizeMessage<Message> std::string payload_lengths_problem(const Message&, std::span<const std::uint8_t>) {
+std::string payload_lengths_problem(const Message&, std::span<const std::uint8_t>) {
+  static_assert(kFixedSizeMessage<Message>,
+                "an LCM type with an array or string: give it a walk in lcm_lengths.cpp, or declare it fixed-size");
   return {};
 }
 
